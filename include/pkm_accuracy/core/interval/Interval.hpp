@@ -1,0 +1,225 @@
+// Closed real interval [lo, hi] of doubles with guaranteed outward rounding (policy: Rounding.hpp).
+//
+// Semantics (set-based, as in IEEE 1788 where it matters here):
+//   * the empty set is a valid value (Interval::empty()); every operation on it returns it;
+//   * unbounded intervals are allowed: [-inf, x], [x, +inf], Interval::entire(); endpoints are never NaN except in
+//     the empty interval, and never lo = +inf or hi = -inf;
+//   * 0 * inf inside a product of intervals counts as 0 (the product set of [0,1] and [1,inf] is [0,inf]);
+//   * division by an interval that contains zero returns Interval::entire() (a valid, if loose, enclosure of the
+//     quotient set); division by an interval that does not contain zero is tight to one ulp per bound;
+//   * comparisons are explicit: certainlyLess(a, b) means every element of a is below every element of b.
+// Nothing in this header changes the floating-point environment.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <iosfwd>
+#include <limits>
+#include <utility>
+
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/interval/Rounding.hpp"
+
+namespace pkm_accuracy {
+namespace interval {
+
+class Interval {
+ public:
+  /// The degenerate interval [0, 0] (default-constructible for Eigen).
+  constexpr Interval() noexcept : lo_(0.0), hi_(0.0) {}
+  /// The degenerate interval [x, x]; exact. Implicit so that doubles mix with intervals in formulas.
+  /// A NaN x gives the empty interval.
+  constexpr Interval(double x) noexcept : lo_(x), hi_(x) {}  // NOLINT(runtime/explicit)
+  /// [lo, hi]. @throws InvalidArgument if lo > hi, either is NaN, lo = +inf or hi = -inf.
+  Interval(double lo, double hi) : lo_(lo), hi_(hi) {
+    if (!(lo <= hi) || lo == kInf || hi == -kInf) throwInvalid(lo, hi);
+  }
+
+  static constexpr Interval empty() noexcept { return Interval(kNaN, kNaN, Unchecked{}); }
+  static constexpr Interval entire() noexcept { return Interval(-kInf, kInf, Unchecked{}); }
+  /// [lo, hi] without validation, for code that has already established lo <= hi (internal fast path).
+  static constexpr Interval fromBoundsUnchecked(double lo, double hi) noexcept { return Interval(lo, hi, Unchecked{}); }
+  /// Smallest interval containing both values (in any order; NaN gives empty).
+  static Interval hullOf(double a, double b) noexcept {
+    if (a != a || b != b) return empty();
+    return a <= b ? Interval(a, b, Unchecked{}) : Interval(b, a, Unchecked{});
+  }
+
+  constexpr double lower() const noexcept { return lo_; }
+  constexpr double upper() const noexcept { return hi_; }
+  constexpr bool isEmpty() const noexcept { return lo_ != lo_; }
+  constexpr bool isPoint() const noexcept { return lo_ == hi_; }
+  constexpr bool isBounded() const noexcept { return lo_ > -kInf && hi_ < kInf; }
+  constexpr bool contains(double x) const noexcept { return lo_ <= x && x <= hi_; }
+  constexpr bool containsZero() const noexcept { return lo_ <= 0.0 && 0.0 <= hi_; }
+  /// Every element of *this is in other (the empty set is a subset of everything).
+  constexpr bool isSubsetOf(const Interval& o) const noexcept { return isEmpty() || (o.lo_ <= lo_ && hi_ <= o.hi_); }
+  /// Same set.
+  constexpr bool operator==(const Interval& o) const noexcept {
+    return (isEmpty() && o.isEmpty()) || (lo_ == o.lo_ && hi_ == o.hi_);
+  }
+  constexpr bool operator!=(const Interval& o) const noexcept { return !(*this == o); }
+
+  /// A point of the interval, close to its centre (0 for entire, +-DBL_MAX for half-unbounded; NaN if empty).
+  double mid() const noexcept {
+    if (isEmpty()) return kNaN;
+    if (lo_ == -kInf) return hi_ == kInf ? 0.0 : -std::numeric_limits<double>::max();
+    if (hi_ == kInf) return std::numeric_limits<double>::max();
+    const double m = 0.5 * lo_ + 0.5 * hi_;
+    return std::min(std::max(m, lo_), hi_);
+  }
+  /// Upper bound of the width hi - lo (+inf if unbounded, NaN if empty).
+  double width() const noexcept { return isEmpty() ? kNaN : rounding::subUp(hi_, lo_); }
+  /// Upper bound of the radius (half-width).
+  double rad() const noexcept { return isEmpty() ? kNaN : rounding::nextUp(0.5 * rounding::subUp(hi_, lo_)); }
+  /// Magnitude max |x| (exact).
+  double mag() const noexcept { return isEmpty() ? kNaN : std::max(-lo_, hi_); }
+  /// Mignitude min |x| (exact).
+  double mig() const noexcept {
+    if (isEmpty()) return kNaN;
+    if (lo_ > 0.0) return lo_;
+    if (hi_ < 0.0) return -hi_;
+    return 0.0;
+  }
+  /// Splits at the midpoint into two halves that share it. Precondition: not empty.
+  std::pair<Interval, Interval> bisect() const noexcept { return bisectAt(mid()); }
+  /// Splits at x (clamped into the interval).
+  std::pair<Interval, Interval> bisectAt(double x) const noexcept {
+    const double m = std::min(std::max(x, lo_), hi_);
+    return {Interval(lo_, m, Unchecked{}), Interval(m, hi_, Unchecked{})};
+  }
+
+  Interval& operator+=(const Interval& o) noexcept { return *this = *this + o; }
+  Interval& operator-=(const Interval& o) noexcept { return *this = *this - o; }
+  Interval& operator*=(const Interval& o) noexcept { return *this = *this * o; }
+  Interval& operator/=(const Interval& o) noexcept { return *this = *this / o; }
+
+  friend Interval operator+(const Interval& a) noexcept { return a; }
+  friend Interval operator-(const Interval& a) noexcept { return Interval(-a.hi_, -a.lo_, Unchecked{}); }
+
+  friend Interval operator+(const Interval& a, const Interval& b) noexcept {
+    return Interval(rounding::addDown(a.lo_, b.lo_), rounding::addUp(a.hi_, b.hi_), Unchecked{}).normalized();
+  }
+  friend Interval operator-(const Interval& a, const Interval& b) noexcept {
+    return Interval(rounding::subDown(a.lo_, b.hi_), rounding::subUp(a.hi_, b.lo_), Unchecked{}).normalized();
+  }
+  friend Interval operator*(const Interval& a, const Interval& b) noexcept {
+    const double p1 = a.lo_ * b.lo_, p2 = a.lo_ * b.hi_, p3 = a.hi_ * b.lo_, p4 = a.hi_ * b.hi_;
+    const double s = p1 + p2 + p3 + p4;
+    if (s != s) return multiplySlow(a, b);  // NaN: empty operand, 0 * inf, or inf - inf in the check itself
+    return Interval(rounding::nextDown(std::min(std::min(p1, p2), std::min(p3, p4))),
+                    rounding::nextUp(std::max(std::max(p1, p2), std::max(p3, p4))), Unchecked{});
+  }
+  friend Interval operator/(const Interval& a, const Interval& b) noexcept {
+    if (a.isEmpty() || b.isEmpty()) return empty();
+    if (b.containsZero()) return entire();
+    // b is strictly positive or strictly negative: a / b = a * (1/b) as sets; use the endpoint quotients.
+    double lo, hi;
+    if (b.lo_ > 0.0) {
+      lo = a.lo_ >= 0.0 ? quot(a.lo_, b.hi_) : quot(a.lo_, b.lo_);
+      hi = a.hi_ >= 0.0 ? quot(a.hi_, b.lo_) : quot(a.hi_, b.hi_);
+    } else {
+      lo = a.hi_ >= 0.0 ? quot(a.hi_, b.hi_) : quot(a.hi_, b.lo_);
+      hi = a.lo_ >= 0.0 ? quot(a.lo_, b.lo_) : quot(a.lo_, b.hi_);
+    }
+    return Interval(rounding::nextDown(lo), rounding::nextUp(hi), Unchecked{}).normalized();
+  }
+
+ private:
+  struct Unchecked {};
+  constexpr Interval(double lo, double hi, Unchecked) noexcept : lo_(lo), hi_(hi) {}
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+  [[noreturn]] static void throwInvalid(double lo, double hi);
+
+  // After outward rounding an infinite exact bound may have been stepped to +-DBL_MAX the wrong way round, e.g.
+  // lo = nextDown(+inf) = DBL_MAX is still a valid lower bound; only NaN (inf - inf) needs repair: it can only come
+  // from unbounded operands, and the whole line is then a valid enclosure of that bound.
+  Interval normalized() const noexcept {
+    if (lo_ != lo_ || hi_ != hi_) return Interval(lo_ != lo_ ? -kInf : lo_, hi_ != hi_ ? kInf : hi_, Unchecked{});
+    return *this;
+  }
+  // Endpoint quotient with inf / inf treated by sign only (the exact set bound is then 0 or inf, covered by the
+  // caller's outward step and normalization).
+  static double quot(double x, double y) noexcept {
+    const double q = x / y;
+    if (q != q) return (x > 0) == (y > 0) ? kInf : -kInf;  // inf / inf: the supremum of such quotients
+    return q;
+  }
+  static double prod(double x, double y) noexcept { return (x == 0.0 || y == 0.0) ? 0.0 : x * y; }
+  static Interval multiplySlow(const Interval& a, const Interval& b) noexcept {
+    if (a.isEmpty() || b.isEmpty()) return empty();
+    const double p1 = prod(a.lo_, b.lo_), p2 = prod(a.lo_, b.hi_), p3 = prod(a.hi_, b.lo_), p4 = prod(a.hi_, b.hi_);
+    return Interval(rounding::nextDown(std::min(std::min(p1, p2), std::min(p3, p4))),
+                    rounding::nextUp(std::max(std::max(p1, p2), std::max(p3, p4))), Unchecked{});
+  }
+
+  double lo_;
+  double hi_;
+};
+
+// ---- set operations -------------------------------------------------------------------------------------------
+inline Interval hull(const Interval& a, const Interval& b) noexcept {
+  if (a.isEmpty()) return b;
+  if (b.isEmpty()) return a;
+  return Interval::fromBoundsUnchecked(std::min(a.lower(), b.lower()), std::max(a.upper(), b.upper()));
+}
+inline Interval intersect(const Interval& a, const Interval& b) noexcept {
+  if (a.isEmpty() || b.isEmpty()) return Interval::empty();
+  const double lo = std::max(a.lower(), b.lower()), hi = std::min(a.upper(), b.upper());
+  return lo <= hi ? Interval::fromBoundsUnchecked(lo, hi) : Interval::empty();
+}
+
+// ---- certain / possible comparisons ----------------------------------------------------------------------------
+inline bool certainlyLess(const Interval& a, const Interval& b) noexcept { return a.upper() < b.lower(); }
+inline bool certainlyLessEqual(const Interval& a, const Interval& b) noexcept { return a.upper() <= b.lower(); }
+inline bool certainlyPositive(const Interval& a) noexcept { return a.lower() > 0.0; }
+inline bool certainlyNegative(const Interval& a) noexcept { return a.upper() < 0.0; }
+
+// ---- elementary functions (exact or one-ulp outward) -----------------------------------------------------------
+inline double mid(const Interval& a) noexcept { return a.mid(); }
+inline double rad(const Interval& a) noexcept { return a.rad(); }
+inline double mag(const Interval& a) noexcept { return a.mag(); }
+inline double mig(const Interval& a) noexcept { return a.mig(); }
+
+inline Interval abs(const Interval& a) noexcept {
+  if (a.isEmpty()) return a;
+  return Interval::fromBoundsUnchecked(a.mig(), a.mag());
+}
+
+/// x^2 (tighter than x * x: [-1, 2]^2 = [0, 4]).
+inline Interval sqr(const Interval& a) noexcept {
+  if (a.isEmpty()) return a;
+  const double lo = a.mig(), hi = a.mag();
+  return Interval::fromBoundsUnchecked(lo == 0.0 ? 0.0 : std::max(0.0, rounding::nextDown(lo * lo)),
+                                       rounding::nextUp(hi * hi));
+}
+
+/// sqrt over the part of a that is >= 0 (empty if a < 0 entirely).
+inline Interval sqrt(const Interval& a) noexcept {
+  const Interval d = intersect(a, Interval::fromBoundsUnchecked(0.0, std::numeric_limits<double>::infinity()));
+  if (d.isEmpty()) return d;
+  return Interval::fromBoundsUnchecked(rounding::sqrtDown(d.lower()), rounding::sqrtUp(d.upper()));
+}
+
+/// Integer power; n < 0 is 1 / a^-n (entire if a contains 0).
+Interval pow(const Interval& a, int n) noexcept;
+
+/// min / max of two intervals (elementwise, tight).
+inline Interval min(const Interval& a, const Interval& b) noexcept {
+  if (a.isEmpty() || b.isEmpty()) return Interval::empty();
+  return Interval::fromBoundsUnchecked(std::min(a.lower(), b.lower()), std::min(a.upper(), b.upper()));
+}
+inline Interval max(const Interval& a, const Interval& b) noexcept {
+  if (a.isEmpty() || b.isEmpty()) return Interval::empty();
+  return Interval::fromBoundsUnchecked(std::max(a.lower(), b.lower()), std::max(a.upper(), b.upper()));
+}
+
+/// Fused a * b + c as an interval (no gain over separate operations; provided for generic code).
+inline Interval fma(const Interval& a, const Interval& b, const Interval& c) noexcept { return a * b + c; }
+
+std::ostream& operator<<(std::ostream& os, const Interval& a);
+
+}  // namespace interval
+}  // namespace pkm_accuracy
