@@ -1,0 +1,77 @@
+// ROS-free description of one /verify_workspace request and of its outcome: what the ROS layer hands to the core
+// and gets back. Plain std/Eigen types only, already validated by fromRequest() (VerifyWorkspaceConversion.hpp).
+// When the core's own workspace / threshold / options / result structs exist, the seam
+// AccuracyCheckerNode::verifyWorkspace() converts these to them (or these become aliases of them).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace pkm_accuracy {
+namespace ros_layer {
+
+/// Set of positions (m, base frame) of the platform frame's origin.
+struct PositionRegion {
+  enum class Type { Box, Cylinder, Sphere, Polyhedron };
+  Type type = Type::Box;
+  Eigen::Vector3d box_min = Eigen::Vector3d::Zero();  ///< Box, Polyhedron (bounding box)
+  Eigen::Vector3d box_max = Eigen::Vector3d::Zero();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< Sphere: centre; Cylinder: (x, y) of the vertical axis
+  double radius = 0.0;                               ///< Sphere, Cylinder (> 0)
+  double z_min = 0.0, z_max = 0.0;                   ///< Cylinder
+  std::vector<Eigen::Vector3d> halfspace_normals;    ///< Polyhedron: n_j . p <= d_j
+  std::vector<double> halfspace_offsets;
+
+  /// Axis-aligned box enclosing the region (m).
+  void boundingBox(Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
+};
+
+/// Workspace: positions in `position`, angles (rad) in [angle_min[k], angle_max[k]], k = roll, pitch, yaw.
+struct WorkspaceSpec {
+  PositionRegion position;
+  Eigen::Vector3d angle_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angle_max = Eigen::Vector3d::Zero();
+};
+
+enum class QueryMode { Verify, MaxError };
+
+/// One request. Zeros in the options mean "the node's default"; fromRequest() has already substituted them.
+struct WorkspaceQuery {
+  WorkspaceSpec workspace;
+  std::array<double, 6> thresholds{};  ///< on |dX_k|: m, m, m, rad, rad, rad (may be +inf); all 0 = none given
+  bool has_thresholds = false;
+  QueryMode mode = QueryMode::Verify;
+  double alpha = 0.0;        ///< max_error: relative accuracy in [0, 1)
+  double time_budget = 0.0;  ///< s, > 0
+  double min_width = 0.0;    ///< m / rad, > 0
+  unsigned threads = 0;      ///< 0 = all hardware threads
+};
+
+/// Outcome of one request (mirrors the response of srv/VerifyWorkspace.srv).
+struct WorkspaceOutcome {
+  bool success = false;
+  std::string message;
+  std::string verdict;  ///< "SAFE" | "UNSAFE" | "UNDECIDED" | ""
+  std::array<double, 6> lower_bound{};
+  std::array<double, 6> upper_bound{};
+  bool has_witness = false;
+  std::array<double, 6> witness_pose{};  ///< x, y, z (m), roll, pitch, yaw (rad)
+  std::array<double, 6> witness_error{};
+  std::uint64_t boxes = 0;
+  double seconds = 0.0;
+  double safe_fraction = 0.0, unsafe_fraction = 0.0, undecided_fraction = 0.0;
+};
+
+/// Node-wide defaults for the options a request leaves at 0.
+struct QueryDefaults {
+  double alpha = 0.01;
+  double time_budget = 60.0;
+  double min_width = 1e-4;
+};
+
+}  // namespace ros_layer
+}  // namespace pkm_accuracy

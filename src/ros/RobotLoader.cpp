@@ -1,0 +1,356 @@
+#include "pkm_accuracy/ros/RobotLoader.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include <xmlrpcpp/XmlRpcValue.h>
+#include <Eigen/Geometry>
+
+#include "pkm_accuracy/core/Exceptions.hpp"
+
+namespace pkm_accuracy {
+namespace ros_layer {
+namespace {
+
+constexpr int kLegs = 6;
+
+/// Short human description of a parameter value, for "got ..." in error messages.
+std::string describeValue(const XmlRpc::XmlRpcValue& v) {
+  std::ostringstream os;
+  os.precision(10);
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeInvalid:
+      return "nothing (parameter not set)";
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return std::string("the boolean ") + (static_cast<const bool&>(v) ? "true" : "false");
+    case XmlRpc::XmlRpcValue::TypeInt:
+      os << "the number " << static_cast<const int&>(v);
+      return os.str();
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      os << "the number " << static_cast<const double&>(v);
+      return os.str();
+    case XmlRpc::XmlRpcValue::TypeString:
+      return "the string \"" + static_cast<const std::string&>(v) + "\"";
+    case XmlRpc::XmlRpcValue::TypeArray:
+      os << "a list of " << v.size() << (v.size() == 1 ? " item" : " items");
+      return os.str();
+    case XmlRpc::XmlRpcValue::TypeStruct:
+      return "a dictionary";
+    default:
+      return "a value of an unsupported type";
+  }
+}
+
+std::string numStr(double x) {
+  std::ostringstream os;
+  os.precision(10);
+  os << x;
+  return os.str();
+}
+
+bool toNumber(const XmlRpc::XmlRpcValue& v, double& out) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    out = static_cast<const double&>(v);
+    return true;
+  }
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    out = static_cast<const int&>(v);
+    return true;
+  }
+  return false;
+}
+
+/// Reads a finite number; `what` is the full name used in messages.
+bool readFinite(const XmlRpc::XmlRpcValue& v, const std::string& what, const char* unit, double& out,
+                std::string& error) {
+  if (!toNumber(v, out)) {
+    error = what + ": expected a number (" + unit + "), got " + describeValue(v);
+    return false;
+  }
+  if (!std::isfinite(out)) {
+    error = what + ": expected a finite number (" + unit + "), got " + numStr(out);
+    return false;
+  }
+  return true;
+}
+
+bool readPoint(const XmlRpc::XmlRpcValue& v, const std::string& what, Eigen::Vector3d& out, std::string& error) {
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || v.size() != 3) {
+    error = what + ": expected a point [x, y, z] of 3 numbers (m), got " + describeValue(v);
+    return false;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!readFinite(v[k], what + "[" + std::to_string(k) + "]", "m", out[k], error)) return false;
+  }
+  return true;
+}
+
+bool readPointList(const ros::NodeHandle& nh, const std::string& key, std::vector<Eigen::Vector3d>& out,
+                   std::string& error) {
+  const std::string name = nh.resolveName(key);
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(key, v)) {
+    error = name + ": expected a list of 6 points [x, y, z] (m), got nothing (parameter not set)";
+    return false;
+  }
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || v.size() != kLegs) {
+    error = name + ": expected a list of 6 points [x, y, z] (m), got " + describeValue(v);
+    return false;
+  }
+  out.assign(kLegs, Eigen::Vector3d::Zero());
+  for (int i = 0; i < kLegs; ++i) {
+    if (!readPoint(v[i], name + "[" + std::to_string(i) + "]", out[i], error)) return false;
+  }
+  return true;
+}
+
+bool readSensorError(const ros::NodeHandle& nh, std::vector<double>& out, std::string& error) {
+  const std::string key = "sensor_error";
+  const std::string name = nh.resolveName(key);
+  const std::string expected = "expected 6 numbers > 0 (m, one per leg) or a single number > 0 (m, all legs)";
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(key, v)) {
+    error = name + ": " + expected + ", got nothing (parameter not set)";
+    return false;
+  }
+  double x = 0.0;
+  if (toNumber(v, x)) {
+    out.assign(kLegs, x);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray && v.size() == kLegs) {
+    out.assign(kLegs, 0.0);
+    for (int i = 0; i < kLegs; ++i) {
+      if (!readFinite(v[i], name + "[" + std::to_string(i) + "]", "m", out[i], error)) return false;
+    }
+  } else {
+    error = name + ": " + expected + ", got " + describeValue(v);
+    return false;
+  }
+  for (int i = 0; i < kLegs; ++i) {
+    if (!(out[i] > 0.0) || !std::isfinite(out[i])) {
+      const std::string which = toNumber(v, x) ? name : name + "[" + std::to_string(i) + "]";
+      error = which + ": expected a finite number > 0 (m), got " + numStr(out[i]);
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Runs GoughGeometry::validate() and turns its message ("base_anchors[2]: ...") into one naming the parameter.
+bool validateGeometry(const ros::NodeHandle& nh, const model::GoughGeometry& g, std::string& error) {
+  try {
+    g.validate();
+    return true;
+  } catch (const InvalidArgument& e) {
+    // The core names fields by their parameter names (base_anchors, platform_anchors, sensor_error, tool_point);
+    // prefix the namespace so that the message names the resolved parameter.
+    std::string ns = nh.getNamespace();
+    if (ns.empty() || ns.back() != '/') ns += '/';
+    error = ns + e.what();
+    return false;
+  } catch (const std::exception& e) {
+    error = std::string("robot geometry: ") + e.what();
+    return false;
+  }
+}
+
+bool readOptionalString(const ros::NodeHandle& nh, const std::string& key, std::string& out, std::string& error) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(key, v)) return true;  // keep the default
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString || static_cast<std::string>(v).empty()) {
+    error = nh.resolveName(key) + ": expected a non-empty string, got " + describeValue(v);
+    return false;
+  }
+  out = static_cast<std::string>(v);
+  return true;
+}
+
+/// Transform of a urdf::Pose (child frame in parent frame).
+Eigen::Isometry3d toIsometry(const urdf::Pose& p) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  double x = 0, y = 0, z = 0, w = 1;
+  p.rotation.getQuaternion(x, y, z, w);
+  t.linear() = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix();
+  t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  return t;
+}
+
+/// Origin of link `link_name` expressed in `ref_link`, composing the chain of fixed joints between them.
+bool fixedChainOrigin(const urdf::Model& urdf, const std::string& ref_link, const std::string& link_name,
+                      const std::string& label, Eigen::Vector3d& out, std::string& error) {
+  urdf::LinkConstSharedPtr link = urdf.getLink(link_name);
+  if (!link) {
+    error = "URDF link '" + link_name + "' (" + label + "): not found in robot '" + urdf.getName() + "'";
+    return false;
+  }
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();  // link frame in the frame of the current ancestor
+  std::string current = link_name;
+  for (std::size_t depth = 0; current != ref_link; ++depth) {
+    urdf::LinkConstSharedPtr l = urdf.getLink(current);
+    const urdf::JointConstSharedPtr joint = l ? l->parent_joint : nullptr;
+    if (!joint || depth > 10000) {
+      error = "URDF link '" + link_name + "' (" + label + "): expected a descendant of link '" + ref_link +
+              "' through fixed joints, but its chain of parents ends at link '" + current + "'";
+      return false;
+    }
+    if (joint->type != urdf::Joint::FIXED) {
+      error = "URDF joint '" + joint->name + "' (between '" + joint->parent_link_name + "' and '" +
+              joint->child_link_name + "', on the chain of " + label + " '" + link_name +
+              "'): expected a fixed joint, got a movable one";
+      return false;
+    }
+    t = toIsometry(joint->parent_to_joint_origin_transform) * t;
+    current = joint->parent_link_name;
+  }
+  out = t.translation();
+  return true;
+}
+
+}  // namespace
+
+std::string formatAnchorName(const std::string& pattern, int index) {
+  // The pattern is user input: only allow a single %d (or %i) and no other conversion, so snprintf is safe.
+  int conversions = 0;
+  for (std::size_t k = 0; k < pattern.size(); ++k) {
+    if (pattern[k] != '%') continue;
+    if (k + 1 < pattern.size() && pattern[k + 1] == '%') {
+      ++k;
+      continue;
+    }
+    if (k + 1 < pattern.size() && (pattern[k + 1] == 'd' || pattern[k + 1] == 'i')) {
+      ++conversions;
+      ++k;
+      continue;
+    }
+    return "";
+  }
+  if (conversions != 1) return "";
+  std::vector<char> buf(pattern.size() + 32);
+  std::snprintf(buf.data(), buf.size(), pattern.c_str(), index);
+  return std::string(buf.data());
+}
+
+bool loadGoughGeometry(const ros::NodeHandle& nh, model::GoughGeometry& out, std::string& error) {
+  model::GoughGeometry g;
+  if (!readPointList(nh, "base_anchors", g.base_anchors, error)) return false;
+  if (!readPointList(nh, "platform_anchors", g.platform_anchors, error)) return false;
+  if (!loadSensorParameters(nh, g, error)) return false;
+  out = g;
+  return true;
+}
+
+bool loadSensorParameters(const ros::NodeHandle& nh, model::GoughGeometry& inout, std::string& error) {
+  model::GoughGeometry g = inout;
+  if (!readSensorError(nh, g.sensor_error, error)) return false;
+
+  XmlRpc::XmlRpcValue v;
+  g.tool_point.setZero();
+  if (nh.getParam("tool_point", v) && !readPoint(v, nh.resolveName("tool_point"), g.tool_point, error)) return false;
+
+  double h = 0.0;
+  if (nh.getParam("anchor_uncertainty", v)) {
+    const std::string name = nh.resolveName("anchor_uncertainty");
+    if (!readFinite(v, name, "m", h, error)) return false;
+    if (h < 0.0) {
+      error = name + ": expected a half-width >= 0 (m), got " + numStr(h);
+      return false;
+    }
+  }
+  try {
+    g.setUniformAnchorUncertainty(h);
+  } catch (const std::exception& e) {
+    error = nh.resolveName("anchor_uncertainty") + ": " + e.what();
+    return false;
+  }
+  if (!validateGeometry(nh, g, error)) return false;
+  inout = g;
+  return true;
+}
+
+bool loadRobotFrames(const ros::NodeHandle& nh, RobotFrames& out, std::string& error) {
+  RobotFrames f;
+  if (!readOptionalString(nh, "base_frame", f.base_frame, error)) return false;
+  if (!readOptionalString(nh, "platform_frame", f.platform_frame, error)) return false;
+  out = f;
+  return true;
+}
+
+bool loadUrdfAnchorNames(const ros::NodeHandle& nh, UrdfAnchorNames& out, std::string& error) {
+  UrdfAnchorNames n;
+  if (!readOptionalString(nh, "base_frame", n.base_link, error)) return false;
+  if (!readOptionalString(nh, "platform_frame", n.platform_link, error)) return false;
+  if (!readOptionalString(nh, "base_anchor_pattern", n.base_anchor_pattern, error)) return false;
+  if (!readOptionalString(nh, "platform_anchor_pattern", n.platform_anchor_pattern, error)) return false;
+  for (const auto& [key, pattern] : {std::make_pair("base_anchor_pattern", n.base_anchor_pattern),
+                                     std::make_pair("platform_anchor_pattern", n.platform_anchor_pattern)}) {
+    if (formatAnchorName(pattern, 1).empty()) {
+      error = nh.resolveName(key) + ": expected a printf pattern with exactly one %d, got \"" + pattern + "\"";
+      return false;
+    }
+  }
+  XmlRpc::XmlRpcValue v;
+  if (nh.getParam("anchor_first_index", v)) {
+    if (v.getType() != XmlRpc::XmlRpcValue::TypeInt || (static_cast<int>(v) != 0 && static_cast<int>(v) != 1)) {
+      error = nh.resolveName("anchor_first_index") + ": expected the integer 0 or 1, got " + describeValue(v);
+      return false;
+    }
+    n.first_index = static_cast<int>(v);
+  }
+  out = n;
+  return true;
+}
+
+bool loadGoughGeometryFromUrdf(const urdf::Model& urdf, const UrdfAnchorNames& names, model::GoughGeometry& out,
+                               std::string& error) {
+  if (!urdf.getLink(names.base_link)) {
+    error = "URDF base link '" + names.base_link + "': not found in robot '" + urdf.getName() + "'";
+    return false;
+  }
+  if (!urdf.getLink(names.platform_link)) {
+    error = "URDF platform link '" + names.platform_link + "': not found in robot '" + urdf.getName() + "'";
+    return false;
+  }
+  std::vector<Eigen::Vector3d> base(kLegs), platform(kLegs);
+  for (int i = 0; i < kLegs; ++i) {
+    const int index = names.first_index + i;
+    const std::string a = formatAnchorName(names.base_anchor_pattern, index);
+    const std::string b = formatAnchorName(names.platform_anchor_pattern, index);
+    if (a.empty()) {
+      error = "base anchor pattern: expected a printf pattern with exactly one %d, got \"" + names.base_anchor_pattern +
+              "\"";
+      return false;
+    }
+    if (b.empty()) {
+      error = "platform anchor pattern: expected a printf pattern with exactly one %d, got \"" +
+              names.platform_anchor_pattern + "\"";
+      return false;
+    }
+    if (!fixedChainOrigin(urdf, names.base_link, a, "base anchor " + std::to_string(index), base[i], error)) {
+      return false;
+    }
+    if (!fixedChainOrigin(urdf, names.platform_link, b, "platform anchor " + std::to_string(index), platform[i],
+                          error)) {
+      return false;
+    }
+  }
+  // Check the anchors alone (distinct, finite) with a placeholder sensor error.
+  model::GoughGeometry check;
+  check.base_anchors = base;
+  check.platform_anchors = platform;
+  check.sensor_error.assign(kLegs, 1.0);
+  try {
+    check.validate();
+  } catch (const std::exception& e) {
+    error = std::string("URDF anchors (") + names.base_anchor_pattern + " / " + names.platform_anchor_pattern +
+            ", numbered from " + std::to_string(names.first_index) + "): " + e.what();
+    return false;
+  }
+  out.base_anchors = base;
+  out.platform_anchors = platform;
+  return true;
+}
+
+}  // namespace ros_layer
+}  // namespace pkm_accuracy
