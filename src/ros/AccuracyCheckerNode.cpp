@@ -73,18 +73,19 @@ bool AccuracyCheckerNode::loadRobot(std::string& error) {
 
 void AccuracyCheckerNode::readDefaults() {
   const QueryDefaults builtin;
-  auto read = [&](const char* key, double fallback, bool lt_one) {
+  // zero_ok: 0 is allowed (otherwise the value must be > 0).
+  auto read = [&](const char* key, double fallback, bool zero_ok) {
     double v = pnh_.param(key, fallback);
-    if (!std::isfinite(v) || v <= 0.0 || (lt_one && v >= 1.0)) {
-      ROS_WARN("%s: expected a number > 0%s, got %g; using %g", pnh_.resolveName(key).c_str(), lt_one ? " and < 1" : "",
-               v, fallback);
+    if (!std::isfinite(v) || v < 0.0 || (v == 0.0 && !zero_ok)) {
+      ROS_WARN("%s: expected a finite number %s, got %g; using %g", pnh_.resolveName(key).c_str(),
+               zero_ok ? ">= 0" : "> 0", v, fallback);
       v = fallback;
     }
     return v;
   };
-  defaults_.alpha = read("default_alpha", builtin.alpha, true);
+  defaults_.alpha = read("default_alpha", builtin.alpha, false);
   defaults_.time_budget = read("default_time_budget", builtin.time_budget, false);
-  defaults_.min_width = read("default_min_width", builtin.min_width, false);
+  defaults_.min_width = read("default_min_width", builtin.min_width, true);
 }
 
 bool AccuracyCheckerNode::start(std::string& error) {
@@ -179,9 +180,16 @@ bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, Verif
 
 WorkspaceOutcome AccuracyCheckerNode::verifyWorkspace(const model::GoughGeometry& /*robot*/,
                                                       const WorkspaceQuery& /*query*/) const {
-  // TODO(core team): call the core verifier here, e.g.
-  //   core::verify::WorkspaceResult r = core::verify::verifyWorkspace(robot, toCore(query.workspace), ...);
-  //   return fromCore(r);
+  // TODO(core team): call the core verifier here. With the core API as of this writing, roughly:
+  //   model::GoughPlatform model(robot);
+  //   domain::PositionRegion region = PositionRegion::box(lo, hi), ::cylinder(cx, cy, r, zmin, zmax),
+  //       ::sphere(c, r) or ::polyhedron(normals, offsets, box_min, box_max), from query.workspace.position;
+  //   domain::Workspace ws(region, {roll, pitch, yaw} intervals from query.workspace.angle_min/max);
+  //   verify::VerifierOptions o; o.mode, o.thresholds (if query.has_thresholds), o.alpha, o.time_limit_s =
+  //   query.time_budget, o.min_width (6 x query.min_width, or empty if 0), o.threads;
+  //   verify::VerifierResult r = verify::Verifier::run(model, ws, o);
+  //   then copy verdict (verify::toString), bounds, witness and statistics into a WorkspaceOutcome, success = true.
+  // Exceptions (InvalidArgument naming a field) are caught by onVerifyWorkspace() and become success=false.
   WorkspaceOutcome out;
   out.success = false;
   out.message = "verifier not available yet (the request is valid)";

@@ -168,7 +168,8 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
     }
   }
 
-  if (!option(req.alpha, defaults.alpha, "alpha", "a number in [0, 1) (0 = default)", 1.0, q.alpha, error) ||
+  if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", HUGE_VAL, q.alpha,
+              error) ||
       !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)", HUGE_VAL,
               q.time_budget, error) ||
       !option(req.min_width, defaults.min_width, "min_width", "a finite number >= 0 (m / rad, 0 = default)", HUGE_VAL,

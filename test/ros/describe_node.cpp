@@ -143,7 +143,7 @@ TEST(VerifyWorkspace, BadRequestsAreRefusedNamingTheFieldAndTheNodeSurvives) {
       {"thresholds[3]", [](VerifyWorkspace::Request& r) { r.thresholds[3] = -1.0; }},
       {"thresholds[0]", [](VerifyWorkspace::Request& r) { r.thresholds[0] = kNaN; }},
       {"mode", [](VerifyWorkspace::Request& r) { r.mode = "fast"; }},
-      {"alpha", [](VerifyWorkspace::Request& r) { r.alpha = 1.5; }},
+      {"alpha", [](VerifyWorkspace::Request& r) { r.alpha = -0.5; }},
       {"time_budget", [](VerifyWorkspace::Request& r) { r.time_budget = -2.0; }},
       {"min_width", [](VerifyWorkspace::Request& r) { r.min_width = kNaN; }},
       {"frame_id", [](VerifyWorkspace::Request& r) { r.frame_id = "world"; }},

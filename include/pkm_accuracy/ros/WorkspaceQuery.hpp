@@ -45,9 +45,9 @@ struct WorkspaceQuery {
   std::array<double, 6> thresholds{};  ///< on |dX_k|: m, m, m, rad, rad, rad (may be +inf); all 0 = none given
   bool has_thresholds = false;
   QueryMode mode = QueryMode::Verify;
-  double alpha = 0.0;        ///< max_error: relative accuracy in [0, 1)
+  double alpha = 0.0;        ///< max_error: relative accuracy > 0: upper - lower <= alpha * lower
   double time_budget = 0.0;  ///< s, > 0
-  double min_width = 0.0;    ///< m / rad, > 0
+  double min_width = 0.0;    ///< m / rad, >= 0 (0: the verifier chooses)
   unsigned threads = 0;      ///< 0 = all hardware threads
 };
 
@@ -70,7 +70,7 @@ struct WorkspaceOutcome {
 struct QueryDefaults {
   double alpha = 0.01;
   double time_budget = 60.0;
-  double min_width = 1e-4;
+  double min_width = 0.0;  ///< 0: let the verifier choose (relative to the workspace)
 };
 
 }  // namespace ros_layer
