@@ -1,14 +1,17 @@
 #include "pkm_accuracy/core/interval/Functions.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace pkm_accuracy {
 namespace interval {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
+// Widens a libm result (computed in round-to-nearest) by kLibmUlpBound ulps on each side and clamps it to [-1, 1].
+// Stepping k ulps away from v towards the exact value y covers at least k ulps of y (ulps grow with magnitude).
+// NaN (no trustworthy evaluation available) gives [-1, 1].
 Interval widenLibm(double v) noexcept {
+  if (v != v) return Interval::fromBoundsUnchecked(-1.0, 1.0);
   double lo = v, hi = v;
   for (int i = 0; i < kLibmUlpBound; ++i) {
     lo = rounding::nextDown(lo);
@@ -17,58 +20,127 @@ Interval widenLibm(double v) noexcept {
   return Interval::fromBoundsUnchecked(std::max(lo, -1.0), std::min(hi, 1.0));
 }
 
-// Does [a, b] (possibly) contain a point phase + 2 k pi for an integer k? Errs on the side of "yes".
+// ---- extremum detection by long-double reduction (|x| <= kReductionLimit) ----------------------------------------
+//
+// mayContainPeriodicPoint(a, b, phase) must answer "yes" whenever [a, b] contains a point c = phase + 2 k pi
+// (k integer); a spurious "yes" only widens the result by adding the extremum value +-1.
+//
+// Rigour of the margin. Let u be the unit roundoff of long double in the worst case: u <= 2^-52 (53-bit significand,
+// e.g. an x87 precision control set to double or a platform where long double is double, in a directed rounding
+// mode; with the usual 64-bit x87 significand u = 2^-63). For |a|, |b| <= 2^30 the candidate k satisfy |k| < 2^28,
+// so k and k - 2 ... k + 2 are exact. The computed c = fl(P + fl(k T)), with P = fl(phase) and T = fl(2 pi), obeys
+//   |P - phase| <= u pi,  |T - 2 pi| <= 2 pi u,  |fl(k T) - k 2 pi| <= 2.01 u |k 2 pi|,  |c - fl(P + fl(kT))| <= u |c|
+// and |k 2 pi| <= |c_exact| + pi, so |c - c_exact| <= 3.1 u (|c| + pi) < 2^-50 (|c| + 4). The margin used below,
+// 2^-40 (|c| + 4), is 1024 times larger, which also absorbs the rounding of a - margin and b + margin
+// (<= u (|c| + 2 pi + 1)). Hence c_exact in [a, b] implies that the test passes. The margin costs nothing in
+// practice: an extremum is only added spuriously when an endpoint lies within the margin of it, where the function
+// differs from +-1 by at most margin^2 / 2 (< 2^-21 even at |x| = 2^30, < 1e-24 for |x| < 10).
+//
+// Which k are tried: t = (a - P) / T has an absolute error far below 1, so the computed floor(t) is within 1 of the
+// exact one; every k with c_k in [a - margin, b + margin] lies in [floor(t) - 1, floor(t) + 1] because
+// b - a < 6.2832 < 2 pi (the caller handles wider intervals); trying floor(t) - 2 ... floor(t) + 2 covers both.
+constexpr double kReductionLimit = 0x1p30;
+constexpr long double kMarginRelative = 0x1p-40L;
+constexpr long double kTwoPi = 6.283185307179586476925286766559005768L;
+constexpr long double kHalfPi = 1.570796326794896619231321691639751442L;
+constexpr long double kPi = 3.141592653589793238462643383279502884L;
+static_assert(std::numeric_limits<long double>::digits >= 53, "the margin analysis assumes at least double precision");
+
 bool mayContainPeriodicPoint(double a, double b, long double phase) noexcept {
-  constexpr long double kTwoPi = 6.283185307179586476925286766559005768L;
-  const long double ka = std::floor((static_cast<long double>(a) - phase) / kTwoPi);
-  for (long double k = ka - 1; k <= ka + 2; k += 1) {
-    const long double c = phase + k * kTwoPi;
-    // Error of c in long double is a few ulps of |c| (2^-63 relative each); 1e-15 relative is ample.
-    const long double margin = 1e-15L * (1.0L + std::fabs(c));
-    if (c >= static_cast<long double>(a) - margin && c <= static_cast<long double>(b) + margin) return true;
+  const long double la = a, lb = b;
+  const long double k0 = std::floor((la - phase) / kTwoPi) - 2.0L;
+  for (int j = 0; j <= 4; ++j) {
+    const long double c = phase + (k0 + j) * kTwoPi;
+    const long double margin = kMarginRelative * (std::fabs(c) + 4.0L);
+    if (c >= la - margin && c <= lb + margin) return true;
   }
   return false;
 }
 
-template <typename F>
-Interval periodicEnclosure(const Interval& a, F f, long double maxPhase, long double minPhase) noexcept {
-  if (a.isEmpty()) return a;
-  if (!a.isBounded() || a.upper() - a.lower() >= 6.28) return Interval::fromBoundsUnchecked(-1.0, 1.0);
-  Interval r;
-  {
-    rounding::ScopedRoundToNearest rn;
-    r = hull(widenLibm(f(a.lower())), widenLibm(f(a.upper())));
-  }
-  double lo = r.lower(), hi = r.upper();
-  if (mayContainPeriodicPoint(a.lower(), a.upper(), maxPhase)) hi = 1.0;
-  if (mayContainPeriodicPoint(a.lower(), a.upper(), minPhase)) lo = -1.0;
-  return Interval::fromBoundsUnchecked(lo, hi);
+// ---- extremum detection by the derivative (any magnitude, narrow intervals) --------------------------------------
+//
+// For f = sin (g = cos) or f = cos (g = sin), the extrema of f are the zeros of g, and |g| is 1-Lipschitz. If a zero
+// c of g lies in [a, b] then |g(a)| = |g(a) - g(c)| <= |a - c| <= w for any upper bound w of b - a; so a certified
+// lower bound of |g(a)| or |g(b)| above w proves f monotone on [a, b]. Otherwise, for w < 1 < pi there is at most
+// one such c, and f(a) = f(c) cos(a - c) with cos(a - c) >= cos(1) > 0: the sign of f(a) (|f(a)| >= cos 1, far from
+// 0 compared with its few-ulp enclosure) tells whether c is a maximum (+1) or a minimum (-1). Only point values are
+// used (detail::libmSin / libmCos, accurate for every double; checked against MPFR up to DBL_MAX by the tests).
+constexpr double kNarrowWidth = 1.0;
+
+enum class Kind { kSin, kCos };
+
+double libm(Kind kind, double x) noexcept { return kind == Kind::kSin ? detail::libmSin(x) : detail::libmCos(x); }
+double libmCompanion(Kind kind, double x) noexcept {
+  return kind == Kind::kSin ? detail::libmCos(x) : detail::libmSin(x);
 }
 
-constexpr long double kHalfPi = 1.570796326794896619231321691639751442L;
-constexpr long double kPi = 3.141592653589793238462643383279502884L;
+Interval periodicEnclosure(const Interval& a, Kind kind) noexcept {
+  if (a.isEmpty()) return a;
+  const Interval unit = Interval::fromBoundsUnchecked(-1.0, 1.0);
+  if (!a.isBounded()) return unit;
+  const double lo = a.lower(), hi = a.upper();
+  const double w = rounding::subUp(hi, lo);  // >= hi - lo in any rounding mode
+  if (w >= 6.2831) return unit;              // may contain a full period (2 pi = 6.28318...)
+
+  rounding::ScopedRoundToNearest rn;  // libm error bounds hold in round-to-nearest; restored on every return path
+  const Interval fa = widenLibm(libm(kind, lo));
+  if (lo == hi) return fa;
+  const Interval fb = widenLibm(libm(kind, hi));
+  Interval r = hull(fa, fb);
+  bool addMax, addMin;
+  if (std::max(-lo, hi) <= kReductionLimit) {
+    const long double maxPhase = kind == Kind::kSin ? kHalfPi : 0.0L;
+    const long double minPhase = kind == Kind::kSin ? -kHalfPi : kPi;
+    addMax = mayContainPeriodicPoint(lo, hi, maxPhase);
+    addMin = mayContainPeriodicPoint(lo, hi, minPhase);
+  } else if (w < kNarrowWidth) {
+    const Interval ga = widenLibm(libmCompanion(kind, lo)), gb = widenLibm(libmCompanion(kind, hi));
+    if (ga.mig() > w || gb.mig() > w) return r;  // monotone
+    addMax = !(fa.upper() < 0.0);
+    addMin = !(fa.lower() > 0.0);
+  } else {
+    return unit;  // |x| > 2^30 and width >= 1: not worth a reduction of our own
+  }
+  return Interval::fromBoundsUnchecked(addMin ? -1.0 : r.lower(), addMax ? 1.0 : r.upper());
+}
+
+Interval pointEnclosure(double x, Kind kind) noexcept {
+  if (!std::isfinite(x)) return x != x ? Interval::empty() : Interval::fromBoundsUnchecked(-1.0, 1.0);
+  rounding::ScopedRoundToNearest rn;
+  return widenLibm(libm(kind, x));
+}
 
 }  // namespace
 
-Interval sin(const Interval& a) noexcept {
-  return periodicEnclosure(a, [](double x) { return std::sin(x); }, kHalfPi, -kHalfPi);
+namespace detail {
+
+// glibc's double sin/cos reduce |x| < 105414350 (about 2^26.65) with a multi-part pi/2 and are within 0.52 ulp there
+// (measured, docs/interval-arithmetic.md). Above, their reduction (__branred) has an absolute error up to about
+// 2^-93, i.e. up to 1e5 ulps of results near 0 (measured at the doubles closest to multiples of pi/2). The long
+// double sinl/cosl use a Payne-Hanek reduction with enough bits; their result rounded to double is within 0.5 ulp
+// on the same hard cases (about 175 ns instead of 45 ns, only for |x| >= 2^26). Without an extended long double
+// no trustworthy evaluation is available there: NaN, which widenLibm turns into [-1, 1].
+constexpr double kLibmDoubleLimit = 0x1p26;
+constexpr bool kExtendedLongDouble = std::numeric_limits<long double>::digits >= 64;
+
+double libmSin(double x) noexcept {
+  if (std::fabs(x) < kLibmDoubleLimit) return std::sin(x);
+  if (!kExtendedLongDouble) return std::numeric_limits<double>::quiet_NaN();
+  return static_cast<double>(std::sin(static_cast<long double>(x)));
 }
 
-Interval cos(const Interval& a) noexcept {
-  return periodicEnclosure(a, [](double x) { return std::cos(x); }, 0.0L, kPi);
+double libmCos(double x) noexcept {
+  if (std::fabs(x) < kLibmDoubleLimit) return std::cos(x);
+  if (!kExtendedLongDouble) return std::numeric_limits<double>::quiet_NaN();
+  return static_cast<double>(std::cos(static_cast<long double>(x)));
 }
 
-Interval sinPoint(double x) noexcept {
-  if (!std::isfinite(x)) return x != x ? Interval::empty() : Interval::fromBoundsUnchecked(-1.0, 1.0);
-  rounding::ScopedRoundToNearest rn;
-  return widenLibm(std::sin(x));
-}
+}  // namespace detail
 
-Interval cosPoint(double x) noexcept {
-  if (!std::isfinite(x)) return x != x ? Interval::empty() : Interval::fromBoundsUnchecked(-1.0, 1.0);
-  rounding::ScopedRoundToNearest rn;
-  return widenLibm(std::cos(x));
-}
+Interval sin(const Interval& a) noexcept { return periodicEnclosure(a, Kind::kSin); }
+Interval cos(const Interval& a) noexcept { return periodicEnclosure(a, Kind::kCos); }
+Interval sinPoint(double x) noexcept { return pointEnclosure(x, Kind::kSin); }
+Interval cosPoint(double x) noexcept { return pointEnclosure(x, Kind::kCos); }
 
 }  // namespace interval
 }  // namespace pkm_accuracy

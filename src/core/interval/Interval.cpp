@@ -23,14 +23,19 @@ Interval pow(const Interval& a, int n) noexcept {
     return Interval(1.0) / pow(a, -n);
   }
   // Repeated squaring on the point intervals [mig, mig] (even) or the endpoints (odd, monotone).
+  // k >= 1; the first factor is taken as is (no multiplication by 1, which would widen by one more ulp).
   auto powPoint = [](double x, int k) {
-    Interval r(1.0), b(x);
-    while (k > 0) {
-      if (k & 1) r = r * b;
+    Interval r, b(x);
+    bool first = true;
+    for (;;) {
+      if (k & 1) {
+        r = first ? b : r * b;
+        first = false;
+      }
       k >>= 1;
-      if (k > 0) b = sqr(b);
+      if (k == 0) return r;
+      b = sqr(b);
     }
-    return r;
   };
   if (n % 2 == 0) {
     const Interval lo = powPoint(a.mig(), n), hi = powPoint(a.mag(), n);
@@ -38,6 +43,24 @@ Interval pow(const Interval& a, int n) noexcept {
   }
   const Interval lo = powPoint(a.lower(), n), hi = powPoint(a.upper(), n);
   return Interval::fromBoundsUnchecked(lo.lower(), hi.upper());
+}
+
+void checkFloatingPointEnvironment() {
+  if (!rounding::subnormalsHonoured()) {
+    throw Error(
+        "floating-point environment: flush-to-zero (FTZ) is enabled; interval enclosures need IEEE 754 "
+        "subnormal results");
+  }
+  if (!rounding::subnormalOperandsHonoured()) {
+    throw Error(
+        "floating-point environment: denormals-are-zero (DAZ) is enabled; interval enclosures need IEEE 754 "
+        "subnormal operands");
+  }
+  if (!rounding::longDoublePrecisionHonoured()) {
+    throw Error(
+        "floating-point environment: the x87 precision control is below the long double precision; the "
+        "sin/cos enclosures need full long double precision");
+  }
 }
 
 std::ostream& operator<<(std::ostream& os, const Interval& a) {

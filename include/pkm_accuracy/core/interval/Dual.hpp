@@ -85,6 +85,46 @@ class Dual {
     return r;
   }
   friend Dual operator-(const T& s, const Dual& a) { return -(a - s); }
+  friend Dual operator/(const Dual& a, const T& s) {
+    Dual r(a.v_ / s);
+    for (int i = 0; i < N; ++i) r.d_[i] = a.d_[i] / s;
+    return r;
+  }
+  friend Dual operator/(const T& s, const Dual& a) { return Dual(s) / a; }
+  // Mixed with built-in arithmetic constants (2.0 * x, x + 1, 1.0 / x). Without these, Dual<Interval, N> * double
+  // would be ambiguous between the T and the Dual overloads (both need one user-defined conversion).
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator+(const Dual& a, U s) {
+    return a + T(static_cast<double>(s));
+  }
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator+(U s, const Dual& a) {
+    return a + T(static_cast<double>(s));
+  }
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator-(const Dual& a, U s) {
+    return a - T(static_cast<double>(s));
+  }
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator-(U s, const Dual& a) {
+    return T(static_cast<double>(s)) - a;
+  }
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator*(const Dual& a, U s) {
+    return a * T(static_cast<double>(s));
+  }
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator*(U s, const Dual& a) {
+    return a * T(static_cast<double>(s));
+  }
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator/(const Dual& a, U s) {
+    return a / T(static_cast<double>(s));
+  }
+  template <typename U, typename = std::enable_if_t<std::is_arithmetic<U>::value && !std::is_same<U, T>::value>>
+  friend Dual operator/(U s, const Dual& a) {
+    return T(static_cast<double>(s)) / a;
+  }
   Dual& operator+=(const Dual& o) { return *this = *this + o; }
   Dual& operator-=(const Dual& o) { return *this = *this - o; }
   Dual& operator*=(const Dual& o) { return *this = *this * o; }

@@ -1,9 +1,17 @@
 // Rigorous transcendental functions on intervals.
 //
-// libm's sin/cos are not correctly rounded and ignore the rounding mode, so they are evaluated in round-to-nearest
-// (under rounding::ScopedRoundToNearest) and each endpoint value is widened by kLibmUlpBound ulps; extrema inside
-// the interval are detected with a long-double reduction and a safety margin that only ever adds an extremum
-// (never drops one). The ulp bound is checked against MPFR on millions of arguments by the test suite.
+// libm's sin/cos are not correctly rounded and are only specified for round-to-nearest, so they are evaluated in
+// round-to-nearest (under rounding::ScopedRoundToNearest, which restores the caller's environment; for |x| >= 2^26
+// through the long double sinl/cosl, see detail::libmSin) and each endpoint value is widened by kLibmUlpBound ulps
+// (then clamped to [-1, 1]). Extrema inside the interval are added
+// when they may be there, never dropped:
+//   * |x| <= 2^30: the extrema phase + 2 k pi are located by a long-double reduction with a proven error margin
+//     (Functions.cpp explains the bound);
+//   * larger |x|, width < 1: a derivative test on point values (sinl/cosl reduce every double accurately);
+//   * larger |x|, width >= 1, width >= 6.2831 or an unbounded interval: [-1, 1].
+// A degenerate interval [x, x] gives the widened libm value for every finite x. The ulp bound is checked against
+// MPFR on millions of arguments (including huge ones and the nearest doubles to k pi / 2) by the test suite; the
+// measured figures are in docs/interval-arithmetic.md.
 #pragma once
 
 #include "pkm_accuracy/core/interval/Interval.hpp"
@@ -11,8 +19,9 @@
 namespace pkm_accuracy {
 namespace interval {
 
-/// Number of ulps by which a libm sin/cos result (round-to-nearest) is widened on each side. glibc documents
-/// errors below 1 ulp for these functions on x86_64; 2 leaves a factor-two margin.
+/// Number of ulps by which a libm sin/cos result (detail::libmSin / libmCos in round-to-nearest) is widened on each
+/// side. The measured maximum error is about 0.52 ulp (docs/interval-arithmetic.md; the MPFR test fails if any
+/// case exceeds this bound); 2 leaves a margin of almost four.
 constexpr int kLibmUlpBound = 2;
 
 /// Enclosure of { sin(x) : x in a }.
@@ -21,9 +30,18 @@ Interval sin(const Interval& a) noexcept;
 Interval cos(const Interval& a) noexcept;
 
 /// Enclosure of sin(x) and cos(x) for a point x (one libm call each), used by point evaluations that need a
-/// certified bound.
+/// certified bound. NaN gives the empty interval, +-inf gives [-1, 1].
 Interval sinPoint(double x) noexcept;
 Interval cosPoint(double x) noexcept;
+
+namespace detail {
+/// The unwidened point evaluations behind sin, cos, sinPoint and cosPoint: glibc sin/cos for |x| < 2^26, the long
+/// double sinl/cosl rounded to double above (glibc's double sin/cos lose up to ~1e5 ulps on hard huge arguments).
+/// Round-to-nearest must be in force. Exposed so that the tests can measure their error against MPFR; within
+/// kLibmUlpBound ulps of the exact value (NaN for |x| >= 2^26 where long double is not extended precision).
+double libmSin(double x) noexcept;
+double libmCos(double x) noexcept;
+}  // namespace detail
 
 }  // namespace interval
 }  // namespace pkm_accuracy

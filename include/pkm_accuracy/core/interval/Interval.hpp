@@ -5,10 +5,19 @@
 //   * unbounded intervals are allowed: [-inf, x], [x, +inf], Interval::entire(); endpoints are never NaN except in
 //     the empty interval, and never lo = +inf or hi = -inf;
 //   * 0 * inf inside a product of intervals counts as 0 (the product set of [0,1] and [1,inf] is [0,inf]);
-//   * division by an interval that contains zero returns Interval::entire() (a valid, if loose, enclosure of the
-//     quotient set); division by an interval that does not contain zero is tight to one ulp per bound;
-//   * comparisons are explicit: certainlyLess(a, b) means every element of a is below every element of b.
-// Nothing in this header changes the floating-point environment.
+//   * division by an interval that contains zero (including [0, 0], [-0, +0], [0, x], [x, 0] and entire()) returns
+//     Interval::entire(), a valid, if loose, enclosure of the quotient set { x / y : x in a, y in b, y != 0 } (no
+//     exception, no NaN, no division by zero is executed); an empty operand gives the empty interval. Division by
+//     an interval that does not contain zero is tight to one ulp per bound;
+//   * +inf and -inf are not real numbers: Interval(+inf) is [DBL_MAX, +inf] and Interval(-inf) is [-inf, -DBL_MAX]
+//     (enclosures of a value that overflowed), never the invalid [inf, inf];
+//   * every bound is rounded outward by at least one ulp (Rounding.hpp), so results of exact operations such as
+//     [1, 1] + [2, 2] are [3 - ulp, 3 + ulp] rather than [3, 3]; abs, min, max, hull, intersect and unary minus are
+//     exact;
+//   * comparisons are explicit: certainlyLess(a, b) means every element of a is below every element of b (false if
+//     either is empty).
+// Nothing in this header changes the floating-point environment; see Rounding.hpp for the exact contract (control
+// state untouched, flags never cleared, never raises FE_INVALID / FE_DIVBYZERO).
 #pragma once
 
 #include <algorithm>
@@ -28,8 +37,9 @@ class Interval {
   /// The degenerate interval [0, 0] (default-constructible for Eigen).
   constexpr Interval() noexcept : lo_(0.0), hi_(0.0) {}
   /// The degenerate interval [x, x]; exact. Implicit so that doubles mix with intervals in formulas.
-  /// A NaN x gives the empty interval.
-  constexpr Interval(double x) noexcept : lo_(x), hi_(x) {}  // NOLINT(runtime/explicit)
+  /// A NaN x gives the empty interval; +inf gives [DBL_MAX, +inf] and -inf gives [-inf, -DBL_MAX].
+  constexpr Interval(double x) noexcept  // NOLINT(runtime/explicit)
+      : lo_(x == kInf ? kMax : x), hi_(x == -kInf ? -kMax : x) {}
   /// [lo, hi]. @throws InvalidArgument if lo > hi, either is NaN, lo = +inf or hi = -inf.
   Interval(double lo, double hi) : lo_(lo), hi_(hi) {
     if (!(lo <= hi) || lo == kInf || hi == -kInf) throwInvalid(lo, hi);
@@ -49,11 +59,19 @@ class Interval {
   constexpr double upper() const noexcept { return hi_; }
   constexpr bool isEmpty() const noexcept { return lo_ != lo_; }
   constexpr bool isPoint() const noexcept { return lo_ == hi_; }
-  constexpr bool isBounded() const noexcept { return lo_ > -kInf && hi_ < kInf; }
-  constexpr bool contains(double x) const noexcept { return lo_ <= x && x <= hi_; }
-  constexpr bool containsZero() const noexcept { return lo_ <= 0.0 && 0.0 <= hi_; }
+  // The predicates test isEmpty() (a quiet comparison) before any ordered comparison, so that they never raise
+  // FE_INVALID on the NaN bounds of the empty interval.
+  /// Not empty and both bounds finite.
+  constexpr bool isBounded() const noexcept { return !isEmpty() && lo_ > -kInf && hi_ < kInf; }
+  /// The real number x is an element (false for NaN and +-inf, which are not real numbers, and for the empty set).
+  constexpr bool contains(double x) const noexcept {
+    return !isEmpty() && x == x && x != kInf && x != -kInf && lo_ <= x && x <= hi_;
+  }
+  constexpr bool containsZero() const noexcept { return !isEmpty() && lo_ <= 0.0 && 0.0 <= hi_; }
   /// Every element of *this is in other (the empty set is a subset of everything).
-  constexpr bool isSubsetOf(const Interval& o) const noexcept { return isEmpty() || (o.lo_ <= lo_ && hi_ <= o.hi_); }
+  constexpr bool isSubsetOf(const Interval& o) const noexcept {
+    return isEmpty() || (!o.isEmpty() && o.lo_ <= lo_ && hi_ <= o.hi_);
+  }
   /// Same set.
   constexpr bool operator==(const Interval& o) const noexcept {
     return (isEmpty() && o.isEmpty()) || (lo_ == o.lo_ && hi_ == o.hi_);
@@ -83,9 +101,9 @@ class Interval {
   }
   /// Splits at the midpoint into two halves that share it. Precondition: not empty.
   std::pair<Interval, Interval> bisect() const noexcept { return bisectAt(mid()); }
-  /// Splits at x (clamped into the interval).
+  /// Splits at x (clamped into the interval; a NaN x splits at mid()). Precondition: not empty.
   std::pair<Interval, Interval> bisectAt(double x) const noexcept {
-    const double m = std::min(std::max(x, lo_), hi_);
+    const double m = x != x ? mid() : std::min(std::max(x, lo_), hi_);
     return {Interval(lo_, m, Unchecked{}), Interval(m, hi_, Unchecked{})};
   }
 
@@ -97,16 +115,22 @@ class Interval {
   friend Interval operator+(const Interval& a) noexcept { return a; }
   friend Interval operator-(const Interval& a) noexcept { return Interval(-a.hi_, -a.lo_, Unchecked{}); }
 
+  // Sums: lo + lo and hi + hi never meet inf - inf (lo is never +inf, hi never -inf), so only the empty interval
+  // needs a test (without it, NaN bounds would leak out as a NaN-bounded non-empty value).
   friend Interval operator+(const Interval& a, const Interval& b) noexcept {
-    return Interval(rounding::addDown(a.lo_, b.lo_), rounding::addUp(a.hi_, b.hi_), Unchecked{}).normalized();
+    if (a.isEmpty() || b.isEmpty()) return empty();
+    return Interval(rounding::addDown(a.lo_, b.lo_), rounding::addUp(a.hi_, b.hi_), Unchecked{});
   }
   friend Interval operator-(const Interval& a, const Interval& b) noexcept {
-    return Interval(rounding::subDown(a.lo_, b.hi_), rounding::subUp(a.hi_, b.lo_), Unchecked{}).normalized();
+    if (a.isEmpty() || b.isEmpty()) return empty();
+    return Interval(rounding::subDown(a.lo_, b.hi_), rounding::subUp(a.hi_, b.lo_), Unchecked{});
   }
   friend Interval operator*(const Interval& a, const Interval& b) noexcept {
+    // Fast path for bounded operands (std::isfinite is a quiet test: false for NaN, i.e. the empty interval).
+    if (!(std::isfinite(a.lo_) && std::isfinite(a.hi_) && std::isfinite(b.lo_) && std::isfinite(b.hi_))) {
+      return multiplySlow(a, b);  // empty operand or an infinite bound (0 * inf must count as 0)
+    }
     const double p1 = a.lo_ * b.lo_, p2 = a.lo_ * b.hi_, p3 = a.hi_ * b.lo_, p4 = a.hi_ * b.hi_;
-    const double s = p1 + p2 + p3 + p4;
-    if (s != s) return multiplySlow(a, b);  // NaN: empty operand, 0 * inf, or inf - inf in the check itself
     return Interval(rounding::nextDown(std::min(std::min(p1, p2), std::min(p3, p4))),
                     rounding::nextUp(std::max(std::max(p1, p2), std::max(p3, p4))), Unchecked{});
   }
@@ -129,13 +153,13 @@ class Interval {
   struct Unchecked {};
   constexpr Interval(double lo, double hi, Unchecked) noexcept : lo_(lo), hi_(hi) {}
   static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static constexpr double kMax = std::numeric_limits<double>::max();
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
   [[noreturn]] static void throwInvalid(double lo, double hi);
 
-  // After outward rounding an infinite exact bound may have been stepped to +-DBL_MAX the wrong way round, e.g.
-  // lo = nextDown(+inf) = DBL_MAX is still a valid lower bound; only NaN (inf - inf) needs repair: it can only come
-  // from unbounded operands, and the whole line is then a valid enclosure of that bound.
+  // Safety net for the quotient bounds: quot() never returns NaN for non-empty operands and a divisor without zero,
+  // but should a NaN bound ever appear, the corresponding infinity is a valid bound.
   Interval normalized() const noexcept {
     if (lo_ != lo_ || hi_ != hi_) return Interval(lo_ != lo_ ? -kInf : lo_, hi_ != hi_ ? kInf : hi_, Unchecked{});
     return *this;
@@ -172,10 +196,15 @@ inline Interval intersect(const Interval& a, const Interval& b) noexcept {
 }
 
 // ---- certain / possible comparisons ----------------------------------------------------------------------------
-inline bool certainlyLess(const Interval& a, const Interval& b) noexcept { return a.upper() < b.lower(); }
-inline bool certainlyLessEqual(const Interval& a, const Interval& b) noexcept { return a.upper() <= b.lower(); }
-inline bool certainlyPositive(const Interval& a) noexcept { return a.lower() > 0.0; }
-inline bool certainlyNegative(const Interval& a) noexcept { return a.upper() < 0.0; }
+// All false when an operand is empty (conservative: nothing is certified about an empty enclosure).
+inline bool certainlyLess(const Interval& a, const Interval& b) noexcept {
+  return !a.isEmpty() && !b.isEmpty() && a.upper() < b.lower();
+}
+inline bool certainlyLessEqual(const Interval& a, const Interval& b) noexcept {
+  return !a.isEmpty() && !b.isEmpty() && a.upper() <= b.lower();
+}
+inline bool certainlyPositive(const Interval& a) noexcept { return !a.isEmpty() && a.lower() > 0.0; }
+inline bool certainlyNegative(const Interval& a) noexcept { return !a.isEmpty() && a.upper() < 0.0; }
 
 // ---- elementary functions (exact or one-ulp outward) -----------------------------------------------------------
 inline double mid(const Interval& a) noexcept { return a.mid(); }
@@ -220,6 +249,18 @@ inline Interval max(const Interval& a, const Interval& b) noexcept {
 inline Interval fma(const Interval& a, const Interval& b, const Interval& c) noexcept { return a * b + c; }
 
 std::ostream& operator<<(std::ostream& os, const Interval& a);
+
+// ---- floating-point environment -----------------------------------------------------------------------------------
+/// True when the calling thread's floating-point unit honours IEEE 754 subnormals (neither flush-to-zero nor
+/// denormals-are-zero is set) and long double runs at full precision, which the rounding policy of Rounding.hpp and
+/// the sin/cos enclosures need. The rounding mode does not matter.
+inline bool floatingPointEnvironmentSupported() noexcept {
+  return rounding::subnormalsHonoured() && rounding::subnormalOperandsHonoured() &&
+         rounding::longDoublePrecisionHonoured();
+}
+/// @throws Error naming the problem if floatingPointEnvironmentSupported() is false (call it once per thread that
+/// runs interval code when foreign code may have enabled FTZ/DAZ, e.g. at the start of a TBB task arena).
+void checkFloatingPointEnvironment();
 
 }  // namespace interval
 }  // namespace pkm_accuracy

@@ -2,17 +2,28 @@
 //
 // Policy "round in any mode, then step one ulp outward":
 //   every elementary floating-point result r = fl(a op b) (+, -, *, /, sqrt: IEEE 754 correctly rounded in the
-//   current mode) lies within one ulp of the exact value, on one side or the other, whatever the rounding mode.
-//   So [nextDown(r), nextUp(r)] always contains the exact value. Interval operations use exactly that.
+//   current mode) is one of the two doubles that bracket the exact value (or the exact value itself), whatever the
+//   rounding mode. So [nextDown(r), nextUp(r)] always contains the exact value. Interval operations use exactly that.
+//   This includes overflow (r = +-inf or +-DBL_MAX, and nextDown(+inf) = DBL_MAX) and gradual underflow (subnormal
+//   results are still correctly rounded, and nextUp(0) = the smallest subnormal).
 // Consequences:
 //   * the core never changes the caller's rounding mode for arithmetic; it is correct under any of the four IEEE
 //     modes and with any thread (TBB workers need no set-up);
 //   * enclosures are at most 2 ulps wider per operation than with directed rounding, which is negligible against
 //     the overestimation of interval methods;
-//   * flush-to-zero / denormals-are-zero modes (MXCSR FTZ/DAZ) break IEEE semantics and are not supported
-//     (checkFloatingPointEnvironment() reports them).
-// Library functions that are not correctly rounded (sin, cos, atan2 from libm) are evaluated in round-to-nearest
-// under a ScopedRoundToNearest guard and widened by a proven error bound (see Functions.hpp).
+//   * the compiler may fold or schedule arithmetic as if round-to-nearest were in force (no -frounding-math is
+//     needed): a result computed in any mode, at compile time or at run time, is still a neighbour of the exact value;
+//   * flush-to-zero / denormals-are-zero modes (MXCSR FTZ/DAZ) break IEEE semantics and are not supported, nor is a
+//     lowered x87 precision control (floatingPointEnvironmentSupported() / checkFloatingPointEnvironment() in
+//     Interval.hpp report them).
+// Library functions that are not correctly rounded (sin, cos from libm) are evaluated in round-to-nearest under a
+// ScopedRoundToNearest guard and widened by an error bound checked against MPFR (see Functions.hpp).
+//
+// Floating-point environment contract of every public interval function: the control state (rounding direction,
+// exception enables, x87 precision control, FTZ/DAZ bits) is left bit-for-bit unchanged, and exception flags that
+// were raised before the call stay raised. A call may newly raise FE_INEXACT, FE_OVERFLOW or FE_UNDERFLOW, exactly
+// as the double arithmetic on the endpoints does; it never raises FE_INVALID or FE_DIVBYZERO (empty and unbounded
+// operands are handled with quiet comparisons and without 0 * inf, inf - inf or x / 0).
 #pragma once
 
 #include <cfenv>
@@ -37,10 +48,10 @@ inline double fromBits(std::int64_t b) noexcept {
   return x;
 }
 
-/// Smallest double strictly greater than x (mode-independent). NaN and +inf are returned unchanged;
-/// -inf maps to -DBL_MAX (an upper bound of anything that overflowed to -inf).
+/// Smallest double strictly greater than x (mode-independent, raises no floating-point exception). NaN and +inf are
+/// returned unchanged; -inf maps to -DBL_MAX (an upper bound of anything that overflowed to -inf).
 inline double nextUp(double x) noexcept {
-  if (!(x < std::numeric_limits<double>::infinity())) return x;  // +inf or NaN
+  if (!std::isless(x, std::numeric_limits<double>::infinity())) return x;  // +inf or NaN (quiet comparison)
   if (x == 0.0) return std::numeric_limits<double>::denorm_min();
   const std::int64_t b = bitsOf(x);
   return fromBits(b >= 0 ? b + 1 : b - 1);
@@ -49,17 +60,23 @@ inline double nextUp(double x) noexcept {
 /// Largest double strictly smaller than x (mode-independent). NaN and -inf unchanged; +inf maps to DBL_MAX.
 inline double nextDown(double x) noexcept { return -nextUp(-x); }
 
-/// Lower / upper bounds of the exact results of the correctly rounded IEEE operations.
+/// Lower / upper bounds of the exact results of the correctly rounded IEEE operations (any rounding mode).
 inline double addDown(double a, double b) noexcept { return nextDown(a + b); }
 inline double addUp(double a, double b) noexcept { return nextUp(a + b); }
 inline double subDown(double a, double b) noexcept { return nextDown(a - b); }
 inline double subUp(double a, double b) noexcept { return nextUp(a - b); }
+inline double mulDown(double a, double b) noexcept { return nextDown(a * b); }
+inline double mulUp(double a, double b) noexcept { return nextUp(a * b); }
+inline double divDown(double a, double b) noexcept { return nextDown(a / b); }
+inline double divUp(double a, double b) noexcept { return nextUp(a / b); }
 inline double sqrtDown(double a) noexcept { return a <= 0.0 ? 0.0 : nextDown(std::sqrt(a)); }
 inline double sqrtUp(double a) noexcept { return a <= 0.0 ? 0.0 : nextUp(std::sqrt(a)); }
 
 /// RAII: saves the complete floating-point environment (rounding mode and exception flags), switches to
 /// round-to-nearest, and restores the saved environment on destruction. Used around libm calls whose error
-/// bounds are documented for round-to-nearest only.
+/// bounds are documented for round-to-nearest only. When the mode already is round-to-nearest nothing is saved or
+/// changed (the guarded code may then raise FE_INEXACT / FE_UNDERFLOW like any arithmetic); otherwise the caller's
+/// environment, flags included, is restored bit for bit.
 class ScopedRoundToNearest {
  public:
   ScopedRoundToNearest() noexcept : changed_(std::fegetround() != FE_TONEAREST) {
@@ -79,12 +96,29 @@ class ScopedRoundToNearest {
   std::fenv_t saved_{};
 };
 
-/// True when the floating-point unit honours IEEE 754 subnormals (no flush-to-zero), which the policy needs.
+/// True when the floating-point unit produces IEEE 754 subnormal results (no flush-to-zero), which the policy needs.
 inline bool subnormalsHonoured() noexcept {
   volatile double tiny = std::numeric_limits<double>::min();
   volatile double half = 0.5;
   const double r = tiny * half;
   return r != 0.0;
+}
+
+/// True when subnormal operands are used as such (no denormals-are-zero), which the policy needs.
+inline bool subnormalOperandsHonoured() noexcept {
+  volatile double sub = std::numeric_limits<double>::denorm_min();
+  volatile double big = 0x1p60;
+  const double r = sub * big;
+  return r != 0.0;
+}
+
+/// True when long double arithmetic runs at its full precision (an x87 precision control lowered to 53 bits would
+/// break the long-double reduction margins and sinl/cosl used for huge arguments, see Functions.cpp).
+inline bool longDoublePrecisionHonoured() noexcept {
+  volatile long double one = 1.0L;
+  volatile long double eps = std::numeric_limits<long double>::epsilon();
+  const long double r = (one + eps) - one;
+  return r == eps;
 }
 
 }  // namespace rounding
