@@ -92,11 +92,13 @@ void GoughGeometry::validate() const {
       throw InvalidGeometry(os.str());
     }
   }
-  if (!tool_point.allFinite()) throw InvalidGeometry("tool_point: expected finite coordinates, got " + vecStr(tool_point));
+  if (!tool_point.allFinite())
+    throw InvalidGeometry("tool_point: expected finite coordinates, got " + vecStr(tool_point));
   checkHalfwidths(base_anchor_halfwidth, "base_anchor_halfwidth", kLegs);
   checkHalfwidths(platform_anchor_halfwidth, "platform_anchor_halfwidth", kLegs);
   if (!tool_point_halfwidth.allFinite() || (tool_point_halfwidth.array() < 0.0).any()) {
-    throw InvalidGeometry("tool_point_halfwidth: expected finite half-widths >= 0, got " + vecStr(tool_point_halfwidth));
+    throw InvalidGeometry("tool_point_halfwidth: expected finite half-widths >= 0, got " +
+                          vecStr(tool_point_halfwidth));
   }
 }
 

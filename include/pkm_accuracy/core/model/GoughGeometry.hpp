@@ -13,9 +13,9 @@ namespace pkm_accuracy {
 namespace model {
 
 struct GoughGeometry {
-  std::vector<Eigen::Vector3d> base_anchors;      ///< A_i in the base frame (m); one per leg
-  std::vector<Eigen::Vector3d> platform_anchors;  ///< b_i in the platform frame (m); one per leg
-  std::vector<double> sensor_error;               ///< e_i > 0: bound on |leg-length sensor error| of leg i (m)
+  std::vector<Eigen::Vector3d> base_anchors;             ///< A_i in the base frame (m); one per leg
+  std::vector<Eigen::Vector3d> platform_anchors;         ///< b_i in the platform frame (m); one per leg
+  std::vector<double> sensor_error;                      ///< e_i > 0: bound on |leg-length sensor error| of leg i (m)
   Eigen::Vector3d tool_point = Eigen::Vector3d::Zero();  ///< c in the platform frame (m)
 
   /// Bounded uncertainty: A_i is only known to lie in base_anchors[i] +- base_anchor_halfwidth[i] (per coordinate,

@@ -1,0 +1,65 @@
+// Per-box enclosure of the worst positioning error ("algorithm A" of the seed paper).
+//
+// For pose component k, f_k(X) = sum_j |J_kj(X)| e_j is the worst error at pose X when every leg sensor error is
+// bounded by e_j (J = (J^-1)^-1). A method returns, for a box of poses, a certified upper bound of max f_k over the
+// box and every admissible geometry (+inf when it cannot bound it, e.g. a singular pose may lie in the box).
+// Certified lower bounds come from errorAtPose() at single poses.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pkm_accuracy/core/Types.hpp"
+#include "pkm_accuracy/core/model/RobotModel.hpp"
+
+namespace pkm_accuracy {
+namespace enclosure {
+
+/// A box of the search, seen as poses. Built by the domain (workspace: the identity map; trajectory: the pose
+/// map of the parameters).
+struct BoxInput {
+  int variables = 0;         ///< number of box variables (<= kMaxDof)
+  IVec pose;                 ///< enclosure of every pose of the box
+  DualPose dualPose;         ///< the pose over the box with its gradient with respect to the box variables
+  IVec centrePose;           ///< enclosure of the pose at the box centre (degenerate for workspace boxes)
+  IVec deviation;            ///< per box variable i: t_i - centre_i over the box
+  bool hasGradient = false;  ///< dualPose is filled
+};
+
+struct ErrorBounds {
+  DVec upper;       ///< per component: certified upper bound of f_k over the box (+inf if unbounded)
+  DVec lower;       ///< per component: certified lower bound of min f_k over the box (0 if not computed)
+  DVec splitScore;  ///< per box variable: estimated share of the overestimation (bisection hint); may be empty
+  bool bounded() const { return upper.size() > 0 && upper.allFinite(); }
+};
+
+class ErrorEnclosure {
+ public:
+  virtual ~ErrorEnclosure() = default;
+  /// Registry name ("paper_baseline", "precond", "mean_value").
+  virtual std::string name() const = 0;
+  /// True if enclose() reads BoxInput::dualPose.
+  virtual bool needsGradient() const = 0;
+  /// Fills out.upper (size model.dof()) and possibly out.splitScore. Never throws on singular boxes.
+  virtual void enclose(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) const = 0;
+};
+
+/// Names accepted by makeEnclosure(), the default first.
+std::vector<std::string> enclosureNames();
+/// @throws InvalidArgument naming the accepted methods if `name` is unknown.
+std::unique_ptr<ErrorEnclosure> makeEnclosure(const std::string& name);
+
+/// f = sum_j |J_kj| e_j as intervals, from an enclosure of J.
+IVec errorFromJacobian(const IMat& jacobian, const std::vector<double>& sensorError);
+
+/// Certified enclosure of f_k at the poses of a (thin) pose box, by preconditioned interval Gauss elimination.
+/// lower() of each entry is a certified lower bound of the worst error at that pose (for every admissible
+/// geometry). @return false if J^-1 could not be inverted there (singular or nearly so).
+bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f);
+
+/// The same in double at a nominal pose (not certified; +inf if singular).
+DVec errorAtPoseDouble(const model::RobotModel& model, const DVec& pose);
+
+}  // namespace enclosure
+}  // namespace pkm_accuracy

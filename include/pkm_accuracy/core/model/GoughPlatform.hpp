@@ -1,0 +1,44 @@
+// 6-UPS Gough-Stewart platform (conventions: docs/conventions.md).
+//   pose X = (x, y, z, roll, pitch, yaw), R = Rz(yaw) Ry(pitch) Rx(roll), B_i = p + R b_i,
+//   n_i = (B_i - A_i) / |B_i - A_i|, row i of J^-1 = [n_i^T, ((R (b_i - c)) x n_i)^T].
+#pragma once
+
+#include <array>
+
+#include "pkm_accuracy/core/model/GoughGeometry.hpp"
+#include "pkm_accuracy/core/model/RobotModel.hpp"
+
+namespace pkm_accuracy {
+namespace model {
+
+class GoughPlatform final : public RobotModel {
+ public:
+  /// @throws InvalidGeometry if geometry.validate() fails.
+  explicit GoughPlatform(GoughGeometry geometry);
+
+  int dof() const override { return 6; }
+  std::string name() const override { return "gough6"; }
+  std::string componentName(int k) const override;
+  bool isAngular(int k) const override { return k >= 3; }
+  const std::vector<double>& sensorError() const override { return geometry_.sensor_error; }
+  bool hasGeometryUncertainty() const override { return uncertain_; }
+  const GoughGeometry& geometry() const { return geometry_; }
+
+  DMat inverseJacobian(const DVec& pose) const override;
+  DVec legLengths(const DVec& pose) const override;
+  IMat inverseJacobian(const IVec& pose) const override;
+  void inverseJacobian(const DualPose& pose, MatrixWithGradient& out) const override;
+
+  /// Enclosure of the leg lengths over a pose box (every admissible geometry).
+  IVec legLengths(const IVec& pose) const;
+
+ private:
+  GoughGeometry geometry_;
+  bool uncertain_;
+  // Anchors and tool point as intervals (degenerate when known exactly), used by the enclosures.
+  std::array<std::array<Interval, 3>, 6> a_, b_;
+  std::array<Interval, 3> c_;
+};
+
+}  // namespace model
+}  // namespace pkm_accuracy

@@ -1,0 +1,54 @@
+// Interface of a parallel kinematic machine for accuracy analysis. A model knows its inverse Jacobian J^-1(X)
+// (row j: how the length of leg j changes with the pose), point-exactly in double and as interval enclosures over
+// boxes of poses, for every admissible geometry (bounded geometric uncertainty enters as interval coefficients).
+//
+// Everything here is ROS-free and thread-safe for concurrent const use.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "pkm_accuracy/core/Types.hpp"
+
+namespace pkm_accuracy {
+namespace model {
+
+class RobotModel {
+ public:
+  virtual ~RobotModel() = default;
+
+  /// Number of pose coordinates, equal to the number of legs (J^-1 is square).
+  virtual int dof() const = 0;
+  /// Short identifier ("gough6", "planar3rpr").
+  virtual std::string name() const = 0;
+  /// Name and unit of pose coordinate / error component k, e.g. "x [m]", "roll [rad]".
+  virtual std::string componentName(int k) const = 0;
+  /// True for the components measured in radians.
+  virtual bool isAngular(int k) const = 0;
+  /// e_j: bound on the sensor error of leg j (m).
+  virtual const std::vector<double>& sensorError() const = 0;
+  /// True when the geometry is only known within bounds (then the interval methods enclose every geometry).
+  virtual bool hasGeometryUncertainty() const = 0;
+
+  // ---- point evaluation with the nominal geometry (double; not certified) ------------------------------------
+  /// J^-1 at a pose.
+  virtual DMat inverseJacobian(const DVec& pose) const = 0;
+  /// Leg lengths at a pose (inverse kinematics).
+  virtual DVec legLengths(const DVec& pose) const = 0;
+
+  // ---- certified enclosures over every admissible geometry ------------------------------------------------------
+  /// Enclosure of { J^-1(X) : X in pose box, geometry admissible }.
+  virtual IMat inverseJacobian(const IVec& pose) const = 0;
+  /// Enclosures of J^-1 and of its derivatives with respect to the box variables, for a pose given as a function
+  /// of those variables (value + gradient), e.g. the identity map of a workspace box or a trajectory.
+  virtual void inverseJacobian(const DualPose& pose, MatrixWithGradient& out) const = 0;
+
+  // ---- helpers built on the above ------------------------------------------------------------------------------
+  /// J = (J^-1)^-1 at a pose. @throws SingularMatrix if J^-1 is (numerically) singular there.
+  DMat jacobian(const DVec& pose) const;
+  /// Worst error of every component at one pose, sum_j |J_kj| e_j (double, not certified).
+  DVec worstErrorAt(const DVec& pose) const;
+};
+
+}  // namespace model
+}  // namespace pkm_accuracy

@@ -1,0 +1,64 @@
+// Options of a verification or max-error run. Units: thresholds, min widths and alpha in the units of the
+// component / variable they refer to (m or rad; trajectory parameters are unitless).
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "pkm_accuracy/core/Types.hpp"
+
+namespace pkm_accuracy {
+namespace verify {
+
+enum class Mode {
+  Verify,    ///< SAFE / UNSAFE / UNDECIDED against per-component thresholds
+  MaxError,  ///< certified [lower, upper] of the maximal error of every component
+};
+
+/// How the branch-and-bound chooses the variable to bisect.
+enum class Bisection {
+  Smear,               ///< largest contribution to the enclosure's width (|C dJ^-1/dt_i| rad(t_i)); default
+  LargestScaledWidth,  ///< largest width relative to the initial width
+  RoundRobin,          ///< cycle through the variables by depth (the seed paper's baseline)
+};
+
+struct Progress;
+
+struct VerifierOptions {
+  Mode mode = Mode::Verify;
+  /// Per-component thresholds (size = dof; m for positions, rad for rotations). Required (> 0) in Verify mode;
+  /// optional in MaxError mode (then the verdict compares the bounds with them).
+  DVec thresholds;
+  /// MaxError tolerance: upper - lower <= alpha (relative: alpha * lower) for every component.
+  double alpha = 0.01;
+  bool alpha_relative = true;
+  /// Enclosure method (enclosure::enclosureNames()).
+  std::string method = "mean_value";
+  Bisection bisection = Bisection::Smear;
+  /// Boxes narrower than this in every variable are not split (per variable; empty: 1e-5 of the initial width).
+  DVec min_width;
+  /// Stop after this many boxes (0: no limit).
+  std::size_t max_boxes = 0;
+  /// Stop after this many seconds of wall time (0: no limit).
+  double time_limit_s = 0.0;
+  /// Set to true from any thread to stop promptly (the result is UNDECIDED, reason Cancelled, partial).
+  const std::atomic<bool>* cancel = nullptr;
+  /// Called at most every progress_period_s while the run goes on (from a worker thread; keep it short).
+  std::function<void(const Progress&)> progress;
+  double progress_period_s = 0.5;
+  /// Worker threads (0: all hardware threads). The verdict does not depend on it.
+  int threads = 0;
+  /// In Verify mode: stop at the first certified witness (true) or keep classifying every box (false).
+  bool stop_at_first_witness = true;
+  /// At most this many undecided boxes are kept in the result (the rest are counted).
+  std::size_t max_recorded_boxes = 1000;
+  /// Points per variable of the initial sampling grid (witness search / first lower bounds); 0 disables it.
+  int presample_points = 3;
+  /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
+  int centre_check_period = 2;
+};
+
+}  // namespace verify
+}  // namespace pkm_accuracy

@@ -1,0 +1,45 @@
+// Reading robot files (the format of config/ref6.yaml) and workspace files with yaml-cpp. ROS-free; used by the
+// command-line tool, the tests and the benchmarks. The ROS node reads the same keys from the parameter server.
+//
+// Robot file:
+//   base_anchors:     [[x, y, z] x 6]      # m, base frame
+//   platform_anchors: [[x, y, z] x 6]      # m, platform frame
+//   sensor_error:     [e1..e6] or e        # m
+//   tool_point:       [x, y, z]            # m, platform frame (optional, default 0)
+//   anchor_uncertainty: h                  # m, half-width of every anchor coordinate (optional, default 0)
+//   workspaces: {name: <workspace>}        # optional
+// Workspace (inline under `workspaces:` or as a file of its own with these keys at top level):
+//   x: [min, max]  y: [min, max]  z: [min, max]          # m (the box region, or the bounds of another region)
+//   roll: [min, max]  pitch: [min, max]  yaw: [min, max]  # rad
+//   region:                                               # optional; default the x/y/z box
+//     type: box | cylinder | sphere | polyhedron
+//     centre: [x, y(, z)]  radius: r  z: [min, max]       # cylinder (z range) / sphere (3-D centre)
+//     normals: [[nx, ny, nz], ...]  offsets: [d, ...]     # polyhedron: n . p <= d (x/y/z give its bounds)
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/model/GoughGeometry.hpp"
+
+namespace pkm_accuracy {
+namespace io {
+
+struct RobotFile {
+  model::GoughGeometry geometry;                        ///< validated
+  std::map<std::string, domain::Workspace> workspaces;  ///< named workspaces of the file
+  std::vector<double> anchor_uncertainty_cases;         ///< optional list (m)
+};
+
+/// @throws ParseError (file missing, YAML syntax, wrong structure: the message names the file and key) or
+///         InvalidGeometry / InvalidArgument for values that parse but are invalid.
+RobotFile loadRobotFile(const std::string& path);
+
+/// A workspace from a YAML node with the keys above; `where` prefixes error messages (e.g. "file.yaml:
+/// workspaces.paper").
+domain::Workspace parseWorkspaceFile(const std::string& path);
+
+}  // namespace io
+}  // namespace pkm_accuracy

@@ -1,0 +1,112 @@
+#include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
+
+#include <Eigen/LU>
+#include <utility>
+
+namespace pkm_accuracy {
+namespace enclosure {
+
+IMat multiply(const DMat& c, const IMat& a) {
+  IMat r(c.rows(), a.cols());
+  for (int i = 0; i < c.rows(); ++i) {
+    for (int j = 0; j < a.cols(); ++j) {
+      Interval s(0.0);
+      for (int k = 0; k < c.cols(); ++k) s += Interval(c(i, k)) * a(k, j);
+      r(i, j) = s;
+    }
+  }
+  return r;
+}
+
+IMat multiply(const IMat& a, const DMat& c) {
+  IMat r(a.rows(), c.cols());
+  for (int i = 0; i < a.rows(); ++i) {
+    for (int j = 0; j < c.cols(); ++j) {
+      Interval s(0.0);
+      for (int k = 0; k < a.cols(); ++k) s += a(i, k) * Interval(c(k, j));
+      r(i, j) = s;
+    }
+  }
+  return r;
+}
+
+IMat multiply(const IMat& a, const IMat& b) {
+  IMat r(a.rows(), b.cols());
+  for (int i = 0; i < a.rows(); ++i) {
+    for (int j = 0; j < b.cols(); ++j) {
+      Interval s(0.0);
+      for (int k = 0; k < a.cols(); ++k) s += a(i, k) * b(k, j);
+      r(i, j) = s;
+    }
+  }
+  return r;
+}
+
+bool gaussSolve(IMat a, IMat b, IMat& x, bool pivoting) {
+  const int n = static_cast<int>(a.rows());
+  const int m = static_cast<int>(b.cols());
+  for (int k = 0; k < n; ++k) {
+    if (pivoting) {
+      int p = k;
+      double best = a(k, k).mig();
+      for (int i = k + 1; i < n; ++i) {
+        if (a(i, k).mig() > best) {
+          best = a(i, k).mig();
+          p = i;
+        }
+      }
+      if (p != k) {
+        a.row(k).swap(a.row(p));
+        b.row(k).swap(b.row(p));
+      }
+    }
+    const Interval piv = a(k, k);
+    if (piv.isEmpty() || piv.containsZero()) return false;
+    for (int i = k + 1; i < n; ++i) {
+      if (a(i, k) == Interval(0.0)) continue;
+      const Interval f = a(i, k) / piv;
+      for (int j = k + 1; j < n; ++j) a(i, j) -= f * a(k, j);
+      for (int j = 0; j < m; ++j) b(i, j) -= f * b(k, j);
+    }
+  }
+  x.resize(n, m);
+  for (int i = n - 1; i >= 0; --i) {
+    for (int j = 0; j < m; ++j) {
+      Interval s = b(i, j);
+      for (int l = i + 1; l < n; ++l) s -= a(i, l) * x(l, j);
+      x(i, j) = s / a(i, i);
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j)
+      if (!x(i, j).isBounded()) return false;
+  return true;
+}
+
+bool gaussInverse(const IMat& a, IMat& inverse, bool pivoting) {
+  const int n = static_cast<int>(a.rows());
+  IMat id(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) id(i, j) = Interval(i == j ? 1.0 : 0.0);
+  return gaussSolve(a, id, inverse, pivoting);
+}
+
+bool approximateInverse(const DMat& a, DMat& inverse) {
+  if (!a.allFinite()) return false;
+  Eigen::PartialPivLU<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>> lu(a);
+  inverse = lu.inverse();
+  if (!inverse.allFinite()) return false;
+  // Reject numerically singular matrices: the preconditioner would be useless and may overflow.
+  const double cond = a.cwiseAbs().rowwise().sum().maxCoeff() * inverse.cwiseAbs().rowwise().sum().maxCoeff();
+  return cond < 1e14;
+}
+
+DMat midpoint(const IMat& a) {
+  DMat m(a.rows(), a.cols());
+  for (int i = 0; i < a.rows(); ++i)
+    for (int j = 0; j < a.cols(); ++j) m(i, j) = a(i, j).mid();
+  return m;
+}
+
+}  // namespace enclosure
+}  // namespace pkm_accuracy
