@@ -78,11 +78,12 @@ Interval periodicEnclosure(const Interval& a, Kind kind) noexcept {
   if (a.isEmpty()) return a;
   const Interval unit = Interval::fromBoundsUnchecked(-1.0, 1.0);
   if (!a.isBounded()) return unit;
+  // libm error bounds hold in round-to-nearest. The guard comes before any arithmetic, so that under a directed
+  // mode the caller's environment, flags included, is restored exactly on every return path.
+  rounding::ScopedRoundToNearest rn;
   const double lo = a.lower(), hi = a.upper();
-  const double w = rounding::subUp(hi, lo);  // >= hi - lo in any rounding mode
+  const double w = rounding::subUp(hi, lo);  // >= hi - lo
   if (w >= 6.2831) return unit;              // may contain a full period (2 pi = 6.28318...)
-
-  rounding::ScopedRoundToNearest rn;  // libm error bounds hold in round-to-nearest; restored on every return path
   const Interval fa = widenLibm(libm(kind, lo));
   if (lo == hi) return fa;
   const Interval fb = widenLibm(libm(kind, hi));

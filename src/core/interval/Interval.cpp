@@ -25,6 +25,8 @@ Interval pow(const Interval& a, int n) noexcept {
   // Repeated squaring on the point intervals [mig, mig] (even) or the endpoints (odd, monotone).
   // k >= 1; the first factor is taken as is (no multiplication by 1, which would widen by one more ulp).
   auto powPoint = [](double x, int k) {
+    // An infinite bound (+inf, or -inf for odd n) stays infinite; only the bound on that side is used.
+    if (std::isinf(x)) return Interval::fromBoundsUnchecked(x, x);
     Interval r, b(x);
     bool first = true;
     for (;;) {
