@@ -105,6 +105,11 @@ std::int64_t battery(const std::vector<Interval>& xs) {
       use(iv::max(a, b));
       sum += iv::certainlyLess(a, b) + iv::certainlyLessEqual(a, b) + a.isSubsetOf(b) + (a == b);
     }
+    for (double s : {2.5, -3.0, 0.0, -0.0, kInf, -kInf, std::numeric_limits<double>::quiet_NaN(), kMax}) {
+      use(a * s);
+      use(s * a);
+      use(a / s);
+    }
     use(-a);
     use(iv::abs(a));
     use(iv::sqr(a));
@@ -183,6 +188,10 @@ std::int64_t exactBattery(const std::vector<Interval>& xs) {
       sum += iv::certainlyLess(a, b) + a.isSubsetOf(b);
     }
     use(a / Interval(2.0));
+    use(a / 2.0);
+    use(a * -4.0);
+    use(0.0 * a);
+    use(a / 0.0);
     use(a / Interval(-0.5, 0.25));  // divisor containing zero: entire(), no division executed
     use(a / Interval(0.0));
     use(-a);

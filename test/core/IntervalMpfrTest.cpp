@@ -206,15 +206,16 @@ void finish(const char* name, const Report& rep, const Checker& chk, long tightC
               kCases / 4, chk.points(), tightChecked);
 }
 
-// Binary operations: corners + a random interior pair.
+// Binary operations: corners + a random interior pair. With pointB, b is a degenerate interval (the mixed
+// Interval-double operations receive b.lower()).
 void runBinary(const char* name, std::uint64_t seed, const std::function<Interval(Interval, Interval)>& op,
-               const MpOp& exact, bool isDivision) {
+               const MpOp& exact, bool isDivision, bool pointB = false) {
   Gen g(seed);
   Checker chk;
   Report rep;
   long tightChecked = 0;               // NOLINT(runtime/int)
   for (long i = 0; i < kCases; ++i) {  // NOLINT(runtime/int)
-    const Interval a = g.interval(), b = g.interval();
+    const Interval a = g.interval(), b = pointB ? Interval(g.point()) : g.interval();
     const int m = static_cast<int>(i % 4);
     const Interval r = underMode(kModes[m], a, b, op);
     std::string why;
@@ -323,6 +324,30 @@ TEST(IntervalMpfr, Division) {
         return mpfr_div(o, o, t.v, r);
       },
       true);
+}
+
+TEST(IntervalMpfr, MixedMultiplicationByDouble) {
+  runBinary(
+      "a * s", 9, [](Interval a, Interval b) { return b.lower() * a; },
+      [](mpfr_ptr o, double x, double y, mpfr_rnd_t r) {
+        static Mp t(64);
+        setD(t.v, y);
+        setD(o, x);
+        return mpfr_mul(o, o, t.v, r);
+      },
+      false, true);
+}
+
+TEST(IntervalMpfr, MixedDivisionByDouble) {
+  runBinary(
+      "a / s", 10, [](Interval a, Interval b) { return a / b.lower(); },
+      [](mpfr_ptr o, double x, double y, mpfr_rnd_t r) {
+        static Mp t(64);
+        setD(t.v, y);
+        setD(o, x);
+        return mpfr_div(o, o, t.v, r);
+      },
+      true, true);
 }
 
 TEST(IntervalMpfr, Square) {

@@ -187,6 +187,29 @@ TEST(IntervalEdge, EveryPairOfEdgeIntervalsEveryOperationAndForm) {
   std::printf("[ edges  ] %d operation/pair combinations, %d MPFR point checks\n", pairs, points);
 }
 
+TEST(IntervalEdge, MixedDoubleOperationsMatchThePromotedOnes) {
+  // a * s, s * a, a / s, a *= s, a /= s are bit-identical to the operations with Interval(s), for every edge
+  // interval and edge double (signed zeros, infinities, NaN, DBL_MAX, subnormals).
+  const std::vector<double> ds = {0.0,  -0.0,  1.0,  -1.0,  2.5,  -3.0,  kMax,  -kMax,
+                                  kDen, -kDen, kInf, -kInf, kNaN, 1e300, 1e-300};
+  int n = 0;
+  for (const Interval& a : edgeIntervals()) {
+    for (double s : ds) {
+      SCOPED_TRACE(str(a) + " and " + std::to_string(s));
+      EXPECT_TRUE(same(a * s, a * Interval(s)));
+      EXPECT_TRUE(same(s * a, Interval(s) * a));
+      EXPECT_TRUE(same(a / s, a / Interval(s)));
+      Interval m = a, d = a;
+      m *= s;
+      d /= s;
+      EXPECT_TRUE(same(m, a * Interval(s)));
+      EXPECT_TRUE(same(d, a / Interval(s)));
+      ++n;
+    }
+  }
+  EXPECT_EQ(n, static_cast<int>(edgeIntervals().size() * ds.size()));
+}
+
 TEST(IntervalEdge, ConstructionAndInvariants) {
   EXPECT_TRUE(Interval(kNaN).isEmpty());
   EXPECT_TRUE(same(Interval(kInf), Interval(kMax, kInf)));
