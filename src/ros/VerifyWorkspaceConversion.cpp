@@ -1,13 +1,19 @@
 #include "pkm_accuracy/ros/VerifyWorkspaceConversion.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
+#include <vector>
+
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
 namespace {
 
 const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
+constexpr std::uint32_t kMaxThreads = 1024;
 
 std::string num(double x) {
   std::ostringstream os;
@@ -100,6 +106,12 @@ bool readRegion(const VerifyWorkspace::Request& req, PositionRegion& r, std::str
       break;
   }
   if (r.type == T::Polyhedron) {
+    if (req.halfspace_normals.empty()) {
+      error =
+          "halfspace_normals: expected at least one half-space with region_type \"polyhedron\" (use \"box\" "
+          "for a box), got none";
+      return false;
+    }
     if (req.halfspace_normals.size() != req.halfspace_offsets.size()) {
       error = "halfspace_offsets: expected one offset per normal (" + std::to_string(req.halfspace_normals.size()) +
               "), got " + std::to_string(req.halfspace_offsets.size());
@@ -127,7 +139,8 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
                  WorkspaceQuery& out, std::string& error) {
   WorkspaceQuery q;
   if (!req.frame_id.empty() && req.frame_id != base_frame) {
-    error = "frame_id: expected \"\" or the robot's base frame \"" + base_frame + "\", got \"" + req.frame_id + "\"";
+    error = "frame_id: frame \"" + req.frame_id + "\": only the base frame \"" + base_frame +
+            "\" is supported yet (or \"\" for it; requests are not transformed with tf2)";
     return false;
   }
   if (req.mode.empty() || req.mode == VerifyWorkspace::Request::MODE_VERIFY) {
@@ -176,7 +189,23 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
               q.min_width, error)) {
     return false;
   }
+  if (req.threads > kMaxThreads) {
+    error = "threads: expected 0 (all hardware threads) to " + std::to_string(kMaxThreads) + ", got " +
+            std::to_string(req.threads);
+    return false;
+  }
   q.threads = req.threads;
+  q.method = req.method.empty() ? defaults.method : req.method;
+  if (!q.method.empty()) {
+    const std::vector<std::string> methods = enclosure::enclosureNames();
+    if (std::find(methods.begin(), methods.end(), q.method) == methods.end()) {
+      std::string list;
+      for (const auto& m : methods) list += (list.empty() ? "\"" : ", \"") + m + "\"";
+      error = std::string(req.method.empty() ? "method (from ~default_method)" : "method") + ": expected one of " +
+              list + " or \"\" (default), got \"" + q.method + "\"";
+      return false;
+    }
+  }
   out = q;
   return true;
 }
@@ -184,19 +213,95 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
 void toResponse(const WorkspaceOutcome& o, VerifyWorkspace::Response& res) {
   res.success = o.success;
   res.message = o.message;
+  res.busy = o.busy;
+  res.job_id = o.job_id;
   res.verdict = o.verdict;
+  res.reason = o.reason;
   for (std::size_t k = 0; k < 6; ++k) {
     res.lower_bound[k] = o.lower_bound[k];
     res.upper_bound[k] = o.upper_bound[k];
     res.witness_pose[k] = o.witness_pose[k];
     res.witness_error[k] = o.witness_error[k];
+    res.undecided_min[k] = o.undecided_min[k];
+    res.undecided_max[k] = o.undecided_max[k];
   }
+  res.converged = o.converged;
+  res.lower_bound_poses = o.lower_bound_poses;
   res.has_witness = o.has_witness;
+  res.witness_component = o.witness_component;
   res.boxes = o.boxes;
+  res.max_depth = o.max_depth;
+  res.threads = o.threads;
   res.seconds = o.seconds;
   res.safe_fraction = o.safe_fraction;
   res.unsafe_fraction = o.unsafe_fraction;
   res.undecided_fraction = o.undecided_fraction;
+  res.outside_fraction = o.outside_fraction;
+  res.undecided_boxes = o.undecided_boxes;
+  res.undecided_boxes_recorded = o.undecided_boxes_recorded;
+}
+
+std::string toString(const PositionRegion::Type type) {
+  switch (type) {
+    case PositionRegion::Type::Box:
+      return VerifyWorkspace::Request::REGION_BOX;
+    case PositionRegion::Type::Cylinder:
+      return VerifyWorkspace::Request::REGION_CYLINDER;
+    case PositionRegion::Type::Sphere:
+      return VerifyWorkspace::Request::REGION_SPHERE;
+    case PositionRegion::Type::Polyhedron:
+      return VerifyWorkspace::Request::REGION_POLYHEDRON;
+  }
+  return "";
+}
+
+void toResultMessage(const WorkspaceQuery& q, const std::string& method, const WorkspaceOutcome& o,
+                     VerificationResult& msg) {
+  msg.job_id = o.job_id;
+  msg.mode =
+      q.mode == QueryMode::MaxError ? VerifyWorkspace::Request::MODE_MAX_ERROR : VerifyWorkspace::Request::MODE_VERIFY;
+  msg.method = method;
+  msg.region_type = toString(q.workspace.position.type);
+  Eigen::Vector3d lo, hi;
+  q.workspace.position.boundingBox(lo, hi);
+  for (int k = 0; k < 3; ++k) {
+    msg.workspace_min[k] = lo[k];
+    msg.workspace_max[k] = hi[k];
+    msg.workspace_min[3 + k] = q.workspace.angle_min[k];
+    msg.workspace_max[3 + k] = q.workspace.angle_max[k];
+  }
+  for (std::size_t k = 0; k < 6; ++k) msg.thresholds[k] = q.has_thresholds ? q.thresholds[k] : 0.0;
+  msg.alpha = q.alpha;
+  msg.time_budget = q.time_budget;
+  msg.min_width = q.min_width;
+  msg.threads_requested = q.threads;
+
+  msg.success = o.success;
+  msg.message = o.message;
+  msg.verdict = o.verdict;
+  msg.reason = o.reason;
+  for (std::size_t k = 0; k < 6; ++k) {
+    msg.lower_bound[k] = o.lower_bound[k];
+    msg.upper_bound[k] = o.upper_bound[k];
+    msg.witness_pose[k] = o.witness_pose[k];
+    msg.witness_error[k] = o.witness_error[k];
+    msg.undecided_min[k] = o.undecided_min[k];
+    msg.undecided_max[k] = o.undecided_max[k];
+  }
+  msg.converged = o.converged;
+  msg.lower_bound_poses = o.lower_bound_poses;
+  msg.has_witness = o.has_witness;
+  msg.witness_component = o.witness_component;
+  msg.boxes = o.boxes;
+  msg.max_depth = o.max_depth;
+  msg.threads = o.threads;
+  msg.seconds = o.seconds;
+  msg.safe_fraction = o.safe_fraction;
+  msg.unsafe_fraction = o.unsafe_fraction;
+  msg.undecided_fraction = o.undecided_fraction;
+  msg.outside_fraction = o.outside_fraction;
+  msg.undecided_boxes = o.undecided_boxes;
+  msg.undecided_boxes_recorded = o.undecided_boxes_recorded;
 }
 
 }  // namespace ros_layer

@@ -1,17 +1,19 @@
-// Translation between srv/VerifyWorkspace.srv and the ROS-free WorkspaceQuery / WorkspaceOutcome. Every check of a
-// request happens here, so that the verifier only ever sees valid input and every rejection names the field.
+// Translation between srv/VerifyWorkspace.srv (and msg/VerificationResult.msg) and the ROS-free WorkspaceQuery /
+// WorkspaceOutcome. Every check of a request happens here, so that the verifier only ever sees valid input and every
+// rejection names the field.
 #pragma once
 
 #include <string>
 
+#include "pkm_accuracy/VerificationResult.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/ros/WorkspaceQuery.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
 
-/// Validates `req` and fills `out` (options left at 0 get `defaults`). `base_frame` is the robot's base frame: the
-/// request's frame_id must be empty or equal to it.
+/// Validates `req` and fills `out` (options left at 0 / "" get `defaults`). `base_frame` is the robot's base frame:
+/// the request's frame_id must be empty or equal to it.
 /// @param error on failure: "<field>: expected ..., got ...", e.g. "region_type: expected one of box, cylinder,
 ///              sphere, polyhedron, got \"cube\""
 bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
@@ -19,6 +21,14 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
 
 /// Copies an outcome into a response.
 void toResponse(const WorkspaceOutcome& outcome, VerifyWorkspace::Response& res);
+
+/// The request's region_type string of a region type.
+std::string toString(PositionRegion::Type type);
+
+/// Fills everything but the header of a ~verdict message from a job's query, the enclosure method it used and its
+/// outcome.
+void toResultMessage(const WorkspaceQuery& query, const std::string& method, const WorkspaceOutcome& outcome,
+                     VerificationResult& msg);
 
 }  // namespace ros_layer
 }  // namespace pkm_accuracy

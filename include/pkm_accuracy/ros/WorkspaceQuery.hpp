@@ -1,7 +1,7 @@
 // ROS-free description of one /verify_workspace request and of its outcome: what the ROS layer hands to the core
 // and gets back. Plain std/Eigen types only, already validated by fromRequest() (VerifyWorkspaceConversion.hpp).
-// When the core's own workspace / threshold / options / result structs exist, the seam
-// AccuracyCheckerNode::verifyWorkspace() converts these to them (or these become aliases of them).
+// CoreBridge.hpp converts them to the core's domain::Workspace / verify::VerifierOptions and the core's
+// verify::VerifierResult back to a WorkspaceOutcome.
 #pragma once
 
 #include <array>
@@ -49,21 +49,34 @@ struct WorkspaceQuery {
   double time_budget = 0.0;  ///< s, > 0
   double min_width = 0.0;    ///< m / rad, >= 0 (0: the verifier chooses)
   unsigned threads = 0;      ///< 0 = all hardware threads
+  std::string method;        ///< enclosure method name; "": the verifier's default
 };
 
-/// Outcome of one request (mirrors the response of srv/VerifyWorkspace.srv).
+/// Outcome of one request (mirrors the response of srv/VerifyWorkspace.srv, whose comments give units and frames).
 struct WorkspaceOutcome {
   bool success = false;
   std::string message;
+  bool busy = false;
+  std::uint64_t job_id = 0;
   std::string verdict;  ///< "SAFE" | "UNSAFE" | "UNDECIDED" | ""
+  std::string reason;   ///< UNDECIDED: "precision_limit" | "time_budget" | "box_budget" | "cancelled" | ...; else ""
   std::array<double, 6> lower_bound{};
   std::array<double, 6> upper_bound{};
+  bool converged = false;
+  std::vector<double> lower_bound_poses;  ///< max_error: 6 x 6 row-major (row k: pose attaining lower_bound[k])
   bool has_witness = false;
   std::array<double, 6> witness_pose{};  ///< x, y, z (m), roll, pitch, yaw (rad)
+  int witness_component = -1;
   std::array<double, 6> witness_error{};
   std::uint64_t boxes = 0;
+  unsigned max_depth = 0;
+  unsigned threads = 0;
   double seconds = 0.0;
-  double safe_fraction = 0.0, unsafe_fraction = 0.0, undecided_fraction = 0.0;
+  double safe_fraction = 0.0, unsafe_fraction = 0.0, undecided_fraction = 0.0, outside_fraction = 0.0;
+  std::uint64_t undecided_boxes = 0;
+  std::uint64_t undecided_boxes_recorded = 0;
+  std::array<double, 6> undecided_min{};  ///< hull of the recorded undecided boxes
+  std::array<double, 6> undecided_max{};
 };
 
 /// Node-wide defaults for the options a request leaves at 0.
@@ -71,6 +84,7 @@ struct QueryDefaults {
   double alpha = 0.01;
   double time_budget = 60.0;
   double min_width = 0.0;  ///< 0: let the verifier choose (relative to the workspace)
+  std::string method;      ///< "": the verifier's default (verify::VerifierOptions::method)
 };
 
 }  // namespace ros_layer

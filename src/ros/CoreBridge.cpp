@@ -1,0 +1,137 @@
+#include "pkm_accuracy/ros/CoreBridge.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+
+namespace pkm_accuracy {
+namespace ros_layer {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+domain::PositionRegion toRegion(const PositionRegion& r) {
+  switch (r.type) {
+    case PositionRegion::Type::Box:
+      return domain::PositionRegion::box(r.box_min, r.box_max);
+    case PositionRegion::Type::Cylinder:
+      return domain::PositionRegion::cylinder(r.center.x(), r.center.y(), r.radius, r.z_min, r.z_max);
+    case PositionRegion::Type::Sphere:
+      return domain::PositionRegion::sphere(r.center, r.radius);
+    case PositionRegion::Type::Polyhedron:
+      return domain::PositionRegion::polyhedron(r.halfspace_normals, r.halfspace_offsets, r.box_min, r.box_max);
+  }
+  return domain::PositionRegion::box(r.box_min, r.box_max);
+}
+
+void copy6(const DVec& v, std::array<double, 6>& out) {
+  for (int k = 0; k < 6 && k < v.size(); ++k) out[static_cast<std::size_t>(k)] = v[k];
+}
+
+}  // namespace
+
+domain::Workspace toWorkspace(const WorkspaceSpec& spec) {
+  std::array<Interval, 3> angles;
+  for (int k = 0; k < 3; ++k) angles[k] = Interval(spec.angle_min[k], spec.angle_max[k]);
+  return domain::Workspace(toRegion(spec.position), angles);
+}
+
+verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHooks& hooks) {
+  verify::VerifierOptions o;
+  o.mode = q.mode == QueryMode::MaxError ? verify::Mode::MaxError : verify::Mode::Verify;
+  if (q.has_thresholds) {
+    o.thresholds = DVec(6);
+    for (int k = 0; k < 6; ++k) {
+      const double t = q.thresholds[static_cast<std::size_t>(k)];
+      o.thresholds[k] = t == kInf ? std::numeric_limits<double>::max() : t;
+    }
+  }
+  o.alpha = q.alpha;
+  o.alpha_relative = true;
+  if (!q.method.empty()) o.method = q.method;
+  if (q.min_width > 0.0) o.min_width = DVec::Constant(6, q.min_width);
+  o.time_limit_s = q.time_budget;
+  o.threads = static_cast<int>(q.threads);
+  o.cancel = hooks.cancel;
+  o.progress = hooks.progress;
+  o.progress_period_s = hooks.progress_period_s;
+  return o;
+}
+
+WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery& q, const model::RobotModel& model) {
+  WorkspaceOutcome out;
+  out.success = true;
+  out.message = r.message;
+  out.verdict = verify::toString(r.verdict);
+  out.reason = r.verdict == verify::Verdict::Undecided ? verify::toString(r.reason) : "";
+
+  // Bounds on the maximal errors: the verifier's enclosure in max_error mode; in verify mode only what the verdict
+  // itself proves (documented in srv/VerifyWorkspace.srv).
+  out.lower_bound.fill(0.0);
+  out.upper_bound.fill(kInf);
+  if (q.mode == QueryMode::MaxError) {
+    copy6(r.max_lower, out.lower_bound);
+    copy6(r.max_upper, out.upper_bound);
+    out.converged = r.converged;
+    out.lower_bound_poses.assign(36, 0.0);
+    for (std::size_t k = 0; k < 6 && k < r.max_argmax.size(); ++k) {
+      const DVec& p = r.max_argmax[k];
+      for (int i = 0; i < 6 && i < p.size(); ++i) out.lower_bound_poses[6 * k + static_cast<std::size_t>(i)] = p[i];
+    }
+  } else {
+    if (r.verdict == verify::Verdict::Safe) out.upper_bound = q.thresholds;
+    if (r.witness_error_lower.size() == 6) copy6(r.witness_error_lower, out.lower_bound);
+  }
+
+  if (r.verdict == verify::Verdict::Unsafe && r.witness.size() == 6 && r.witness_component >= 0) {
+    out.has_witness = true;
+    copy6(r.witness, out.witness_pose);
+    out.witness_component = r.witness_component;
+    if (r.witness_error_lower.size() == 6) {
+      copy6(r.witness_error_lower, out.witness_error);
+    } else {
+      IVec f;
+      if (enclosure::errorAtPose(model, r.witness_pose, f) && f.size() == 6) {
+        for (int k = 0; k < 6; ++k) out.witness_error[static_cast<std::size_t>(k)] = f[k].lower();
+      }
+    }
+    auto& e = out.witness_error[static_cast<std::size_t>(r.witness_component)];
+    e = std::max(e, r.witness_lower_bound);
+  }
+
+  out.boxes = r.stats.boxes;
+  out.max_depth = static_cast<unsigned>(std::max(0, r.stats.max_depth));
+  out.threads = static_cast<unsigned>(std::max(0, r.stats.threads));
+  out.seconds = r.stats.seconds;
+  out.safe_fraction = r.stats.safe_fraction;
+  out.unsafe_fraction = r.stats.unsafe_fraction;
+  out.undecided_fraction = r.stats.undecided_fraction;
+  out.outside_fraction = r.stats.outside_fraction;
+
+  out.undecided_boxes = r.undecided_box_count;
+  out.undecided_boxes_recorded = r.undecided_boxes.size();
+  out.undecided_min.fill(0.0);
+  out.undecided_max.fill(0.0);
+  bool first = true;
+  for (const verify::BoxRecord& b : r.undecided_boxes) {
+    for (int i = 0; i < 6 && i < b.box.size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      out.undecided_min[k] = first ? b.box[i].lower() : std::min(out.undecided_min[k], b.box[i].lower());
+      out.undecided_max[k] = first ? b.box[i].upper() : std::max(out.undecided_max[k], b.box[i].upper());
+    }
+    first = false;
+  }
+  return out;
+}
+
+WorkspaceOutcome runWorkspaceQuery(const model::RobotModel& model, const WorkspaceQuery& query, const JobHooks& hooks) {
+  const domain::Workspace workspace = toWorkspace(query.workspace);
+  const verify::VerifierOptions options = toVerifierOptions(query, hooks);
+  const verify::VerifierResult result = verify::Verifier::run(model, workspace, options);
+  return toOutcome(result, query, model);
+}
+
+}  // namespace ros_layer
+}  // namespace pkm_accuracy
