@@ -1,5 +1,6 @@
 // rostest (describe.test): the node started on config/ref6.yaml describes exactly the reference robot, publishes
-// its anchor frames on /tf_static, advertises /verify_workspace and survives bad requests.
+// its anchor frames on /tf_static, advertises /verify_workspace (answered by the verifier) and survives bad
+// requests.
 #include <cmath>
 #include <limits>
 #include <string>
@@ -99,15 +100,13 @@ TEST(Describe, AnchorFramesAreOnTfStatic) {
 }
 
 TEST(VerifyWorkspace, IsAdvertisedWithAGlobalNameAndAnswersAValidRequest) {
+  // The paper workspace with the paper's thresholds: the verifier finds a violating pose at once (verify_node.cpp
+  // checks the results in detail).
   const auto r = verify(paperRequest());
-  // The verifier is not wired yet: a valid request gets a clean refusal. When the core is wired this test should
-  // expect success and a verdict instead.
-  if (!r.success) {
-    EXPECT_NE(r.message.find("not available"), std::string::npos) << r.message;
-    EXPECT_EQ(r.verdict, "");
-  } else {
-    EXPECT_TRUE(r.verdict == "SAFE" || r.verdict == "UNSAFE" || r.verdict == "UNDECIDED") << r.verdict;
-  }
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.verdict, "UNSAFE") << r.message;
+  EXPECT_TRUE(r.has_witness);
+  EXPECT_GT(r.job_id, 0u);
 }
 
 struct BadCase {
@@ -157,11 +156,19 @@ TEST(VerifyWorkspace, BadRequestsAreRefusedNamingTheFieldAndTheNodeSurvives) {
         << "expected the message to name " << c.field << ": " << r.message;
     EXPECT_EQ(r.verdict, "") << c.field;
   }
-  // max_error mode without thresholds is valid; the node is still alive and still describes the robot.
+  // max_error mode without thresholds is valid (here on a small sub-box of the paper workspace, decided at once);
+  // the node is still alive and still describes the robot.
   VerifyWorkspace::Request req = paperRequest();
+  req.box_min = {-0.01, -0.01, 0.47};
+  req.box_max = {0.01, 0.01, 0.48};
+  req.roll_min = req.pitch_min = req.yaw_min = -0.01;
+  req.roll_max = req.pitch_max = req.yaw_max = 0.01;
   req.mode = "max_error";
+  req.alpha = 0.5;
   req.thresholds = {0, 0, 0, 0, 0, 0};
-  EXPECT_EQ(verify(req).message.find("invalid request"), std::string::npos);
+  const auto r = verify(req);
+  EXPECT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.message.find("invalid request"), std::string::npos) << r.message;
   EXPECT_TRUE(describe().success);
 }
 
