@@ -427,6 +427,14 @@ TEST(IntervalEdge, MixedDoubleArithmeticAndEigen) {
   const Eigen::Matrix<double, 6, 1> p = Eigen::Matrix<double, 6, 1>::Constant(1.2);
   const iv::IntervalVector6 q = m * p.cast<Interval>();
   EXPECT_TRUE(q(0).contains(1.2 + 1.2 * 0.1));
+  const iv::IntervalVector6 q2 = m * p;  // mixed Interval-double product through ScalarBinaryOpTraits
+  EXPECT_TRUE(q2(0).contains(1.2 + 1.2 * 0.1) && q2(0).contains(1.2 - 1.2 * 0.1));
+  const Interval n = v.norm();  // Eigen's sqrt finds interval::sqrt by argument-dependent lookup
+  EXPECT_TRUE(n.contains(std::sqrt(6.0)) && n.contains(1.5 * std::sqrt(6.0)));
+  EXPECT_TRUE(v.squaredNorm().contains(6.0 * 2.25));
+  const iv::IntervalMatrix6 mtm = m.transpose() * m;
+  EXPECT_TRUE(mtm(1, 1).contains(1.0) && mtm(1, 1).contains(1.01));
+  EXPECT_TRUE(m.sum().contains(6.0));
 }
 
 }  // namespace
