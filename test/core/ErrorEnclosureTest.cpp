@@ -1,0 +1,255 @@
+// Soundness of every enclosure method: for random boxes (wide, small, near-singular, some zero widths) the worst
+// error at random points of the box never exceeds the method's upper bound. The point values come from the
+// certified point evaluation and, independently, from an MPFR computation (200 bits) of J^-1, its inverse and
+// sum_j |J_kj| e_j.
+#include <gtest/gtest.h>
+#include <mpfr.h>
+
+#include <random>
+#include <vector>
+
+#include "TestRobots.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+
+using namespace pkm_accuracy;
+
+namespace {
+
+// ---- a tiny MPFR matrix toolkit (RAII) -----------------------------------------------------------------------
+struct Mp {
+  mpfr_t v;
+  Mp() { mpfr_init2(v, 200); }
+  explicit Mp(double d) {
+    mpfr_init2(v, 200);
+    mpfr_set_d(v, d, MPFR_RNDN);
+  }
+  Mp(const Mp& o) {
+    mpfr_init2(v, 200);
+    mpfr_set(v, o.v, MPFR_RNDN);
+  }
+  Mp& operator=(const Mp& o) {
+    mpfr_set(v, o.v, MPFR_RNDN);
+    return *this;
+  }
+  ~Mp() { mpfr_clear(v); }
+};
+Mp operator+(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_add(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp operator-(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_sub(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp operator*(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_mul(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp operator/(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_div(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp mpSqrt(const Mp& a) {
+  Mp r;
+  mpfr_sqrt(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+Mp mpSin(const Mp& a) {
+  Mp r;
+  mpfr_sin(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+Mp mpCos(const Mp& a) {
+  Mp r;
+  mpfr_cos(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+Mp mpAbs(const Mp& a) {
+  Mp r;
+  mpfr_abs(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+
+/// Worst error per component at pose q, in MPFR: J^-1 by the conventions, inverted by Gauss-Jordan with pivoting.
+std::vector<Mp> mpfrWorstError(const model::GoughGeometry& g, const DVec& q) {
+  const Mp sr = mpSin(Mp(q[3])), cr = mpCos(Mp(q[3])), sp = mpSin(Mp(q[4])), cp = mpCos(Mp(q[4]));
+  const Mp sy = mpSin(Mp(q[5])), cy = mpCos(Mp(q[5]));
+  const Mp r[3][3] = {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
+                      {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
+                      {Mp(0.0) - sp, cp * sr, cp * cr}};
+  std::vector<std::vector<Mp>> a(6, std::vector<Mp>(12, Mp(0.0)));
+  for (int i = 0; i < 6; ++i) {
+    Mp d[3], u[3];
+    for (int k = 0; k < 3; ++k) {
+      Mp rb(0.0), ru(0.0);
+      for (int l = 0; l < 3; ++l) {
+        rb = rb + r[k][l] * Mp(g.platform_anchors[i][l]);
+        ru = ru + r[k][l] * (Mp(g.platform_anchors[i][l]) - Mp(g.tool_point[l]));
+      }
+      d[k] = Mp(q[k]) + rb - Mp(g.base_anchors[i][k]);
+      u[k] = ru;
+    }
+    const Mp len = mpSqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    Mp n[3] = {d[0] / len, d[1] / len, d[2] / len};
+    a[i][0] = n[0];
+    a[i][1] = n[1];
+    a[i][2] = n[2];
+    a[i][3] = u[1] * n[2] - u[2] * n[1];
+    a[i][4] = u[2] * n[0] - u[0] * n[2];
+    a[i][5] = u[0] * n[1] - u[1] * n[0];
+    a[i][6 + i] = Mp(1.0);
+  }
+  for (int k = 0; k < 6; ++k) {
+    int p = k;
+    for (int i = k + 1; i < 6; ++i)
+      if (mpfr_cmpabs(a[i][k].v, a[p][k].v) > 0) p = i;
+    std::swap(a[k], a[p]);
+    const Mp piv = a[k][k];
+    for (int j = 0; j < 12; ++j) a[k][j] = a[k][j] / piv;
+    for (int i = 0; i < 6; ++i) {
+      if (i == k) continue;
+      const Mp f = a[i][k];
+      for (int j = 0; j < 12; ++j) a[i][j] = a[i][j] - f * a[k][j];
+    }
+  }
+  std::vector<Mp> f(6, Mp(0.0));
+  for (int k = 0; k < 6; ++k)
+    for (int j = 0; j < 6; ++j) f[k] = f[k] + mpAbs(a[k][6 + j]) * Mp(g.sensor_error[j]);
+  return f;
+}
+
+bool mpLessEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) <= 0; }
+bool mpGreaterEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) >= 0; }
+
+}  // namespace
+
+TEST(ErrorEnclosure, RegistryKnowsEveryMethodAndRejectsUnknownNames) {
+  for (const auto& name : enclosure::enclosureNames()) EXPECT_EQ(enclosure::makeEnclosure(name)->name(), name);
+  try {
+    enclosure::makeEnclosure("nope");
+    FAIL();
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("nope"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("mean_value"), std::string::npos);
+  }
+}
+
+TEST(ErrorEnclosure, CertifiedPointValueContainsMpfrValue) {
+  const io::RobotFile rf = test::ref6File();
+  for (const bool withTool : {false, true}) {
+    model::GoughGeometry g = rf.geometry;
+    if (withTool) g.tool_point = Eigen::Vector3d(0.02, 0.01, -0.03);
+    const model::GoughPlatform robot(g);
+    std::mt19937_64 rng(5);
+    const IVec ws = rf.workspaces.at("paper_40deg").initialBox();
+    int evaluated = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const DVec q = test::randomPoint(ws, rng);
+      IVec thin(6), f;
+      for (int i = 0; i < 6; ++i) thin[i] = Interval(q[i]);
+      if (!enclosure::errorAtPose(robot, thin, f)) continue;  // (near-)singular: nothing certified, nothing to check
+      ++evaluated;
+      const auto exact = mpfrWorstError(g, q);
+      for (int k = 0; k < 6; ++k) {
+        EXPECT_TRUE(mpGreaterEqual(exact[k], f[k].lower())) << "component " << k << " trial " << trial;
+        EXPECT_TRUE(mpLessEqual(exact[k], f[k].upper())) << "component " << k << " trial " << trial;
+        // And the enclosure is tight (a point evaluation, not a box).
+        EXPECT_LT(f[k].upper() - f[k].lower(), 1e-9 * f[k].upper());
+      }
+    }
+    EXPECT_GT(evaluated, 250);
+  }
+}
+
+TEST(ErrorEnclosure, EveryMethodBoundsEveryPointOfRandomBoxes) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const IVec ws = rf.workspaces.at("paper_40deg").initialBox();
+  const domain::Workspace whole = rf.workspaces.at("paper_40deg");
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> logFrac(-7.0, -1.0);
+  std::vector<std::unique_ptr<enclosure::ErrorEnclosure>> methods;
+  for (const auto& name : enclosure::enclosureNames()) methods.push_back(enclosure::makeEnclosure(name));
+  int bounded = 0, checkedMpfr = 0;
+  const int boxes = 1500;
+  for (int trial = 0; trial < boxes; ++trial) {
+    const DVec c = test::randomPoint(ws, rng);
+    IVec box(6);
+    const double frac = std::pow(2.0, logFrac(rng) * 2.0);
+    for (int i = 0; i < 6; ++i) {
+      const double h = (trial % 5 == 0 && i == trial % 6) ? 0.0 : frac * 0.5 * (ws[i].upper() - ws[i].lower());
+      box[i] = Interval(c[i] - h, c[i] + h);
+    }
+    enclosure::BoxInput in;
+    whole.poseView(box, true, in);
+    std::vector<enclosure::ErrorBounds> bounds(methods.size());
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      methods[m]->enclose(robot, in, bounds[m]);
+      ASSERT_EQ(bounds[m].upper.size(), 6);
+      for (int k = 0; k < 6; ++k) ASSERT_FALSE(std::isnan(bounds[m].upper[k]));
+      if (bounds[m].bounded()) ++bounded;
+    }
+    for (int s = 0; s < 5; ++s) {
+      const DVec q = test::randomPoint(box, rng);
+      IVec thin(6), f;
+      for (int i = 0; i < 6; ++i) thin[i] = Interval(q[i]);
+      const bool certified = enclosure::errorAtPose(robot, thin, f);
+      std::vector<Mp> exact;
+      if (s == 0 && trial % 10 == 0) {
+        exact = mpfrWorstError(rf.geometry, q);
+        ++checkedMpfr;
+      }
+      for (std::size_t m = 0; m < methods.size(); ++m) {
+        for (int k = 0; k < 6; ++k) {
+          if (certified) {
+            EXPECT_LE(f[k].lower(), bounds[m].upper[k]) << methods[m]->name() << " k=" << k << " trial " << trial;
+            EXPECT_GE(f[k].upper(), bounds[m].lower[k]) << methods[m]->name() << " k=" << k << " trial " << trial;
+          }
+          if (!exact.empty()) {
+            EXPECT_TRUE(mpLessEqual(exact[k], bounds[m].upper[k])) << methods[m]->name() << " k=" << k;
+            EXPECT_TRUE(mpGreaterEqual(exact[k], bounds[m].lower[k])) << methods[m]->name() << " k=" << k;
+          }
+        }
+      }
+    }
+  }
+  // The test must exercise bounded enclosures, not only +inf answers.
+  EXPECT_GT(bounded, boxes / 2);
+  EXPECT_GT(checkedMpfr, 100);
+}
+
+TEST(ErrorEnclosure, BoxContainingASingularPoseIsUnbounded) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  std::array<Interval, 6> r = {Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01, 0.01),
+                               Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01, 0.01)};
+  const domain::Workspace ws = domain::Workspace::fromRanges(r);  // contains the flat singular pose z = 0
+  for (const auto& name : enclosure::enclosureNames()) {
+    const auto m = enclosure::makeEnclosure(name);
+    enclosure::BoxInput in;
+    ws.poseView(ws.initialBox(), true, in);
+    enclosure::ErrorBounds b;
+    m->enclose(robot, in, b);
+    EXPECT_FALSE(b.bounded()) << name;
+    for (int k = 0; k < 6; ++k) EXPECT_TRUE(std::isinf(b.upper[k]) || b.upper[k] > 1e3) << name;
+  }
+}
+
+TEST(ErrorEnclosure, MeanValueIsTighterThanPlainPreconditioningOnSmallBoxes) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const IVec box = test::centredSubBox(ws.initialBox(), 1.0 / 16.0);
+  enclosure::BoxInput in;
+  ws.poseView(box, true, in);
+  enclosure::ErrorBounds mv, pc;
+  enclosure::makeEnclosure("mean_value")->enclose(robot, in, mv);
+  enclosure::makeEnclosure("precond")->enclose(robot, in, pc);
+  ASSERT_TRUE(mv.bounded());
+  for (int k = 0; k < 6; ++k) EXPECT_LT(mv.upper[k], pc.upper[k]) << k;
+}

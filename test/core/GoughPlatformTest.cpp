@@ -1,0 +1,172 @@
+// The Gough platform model against an independent implementation of the inverse kinematics (leg lengths from the
+// rotation matrix built with Eigen's AngleAxis) and central finite differences.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <random>
+
+#include "TestRobots.hpp"
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/model/GoughPlatform.hpp"
+
+using namespace pkm_accuracy;
+
+namespace {
+
+Eigen::Matrix3d rotationOf(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+// Leg lengths with the tool point t (base frame) and rotation R: B_i = t + R (b_i - c).
+Eigen::Matrix<double, 6, 1> lengths(const model::GoughGeometry& g, const Eigen::Vector3d& t, const Eigen::Matrix3d& r) {
+  Eigen::Matrix<double, 6, 1> l;
+  for (int i = 0; i < 6; ++i) l[i] = (t + r * (g.platform_anchors[i] - g.tool_point) - g.base_anchors[i]).norm();
+  return l;
+}
+
+DVec pose6(double x, double y, double z, double r, double p, double yw) {
+  DVec v(6);
+  v << x, y, z, r, p, yw;
+  return v;
+}
+
+}  // namespace
+
+TEST(GoughPlatform, InverseJacobianMatchesFiniteDifferencesOfLegLengths) {
+  for (const bool withTool : {false, true}) {
+    io::RobotFile rf = test::ref6File();
+    if (withTool) rf.geometry.tool_point = Eigen::Vector3d(0.01, -0.02, 0.05);
+    const model::GoughPlatform robot(rf.geometry);
+    std::mt19937_64 rng(7);
+    const IVec box = rf.workspaces.at("paper").initialBox();
+    for (int trial = 0; trial < 200; ++trial) {
+      const DVec q = test::randomPoint(box, rng);
+      const Eigen::Matrix3d r = rotationOf(q[3], q[4], q[5]);
+      const Eigen::Vector3d t = q.head<3>() + r * rf.geometry.tool_point;  // tool point in the base frame
+      const DMat m = robot.inverseJacobian(q);
+      const double h = 1e-6;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(k) * h;
+        const Eigen::Matrix<double, 6, 1> d =
+            (lengths(rf.geometry, t + e, r) - lengths(rf.geometry, t - e, r)) / (2 * h);
+        for (int i = 0; i < 6; ++i) EXPECT_NEAR(m(i, k), d[i], 1e-8) << "leg " << i << " translation " << k;
+        // Small rotation about base axis k around the tool point.
+        const Eigen::Matrix3d rp = Eigen::AngleAxisd(h, Eigen::Vector3d::Unit(k)).toRotationMatrix() * r;
+        const Eigen::Matrix3d rm = Eigen::AngleAxisd(-h, Eigen::Vector3d::Unit(k)).toRotationMatrix() * r;
+        const Eigen::Matrix<double, 6, 1> dr = (lengths(rf.geometry, t, rp) - lengths(rf.geometry, t, rm)) / (2 * h);
+        for (int i = 0; i < 6; ++i) EXPECT_NEAR(m(i, 3 + k), dr[i], 1e-8) << "leg " << i << " rotation " << k;
+      }
+      // Leg lengths agree with the independent formula.
+      const DVec l = robot.legLengths(q);
+      const Eigen::Matrix<double, 6, 1> li = lengths(rf.geometry, t, r);
+      for (int i = 0; i < 6; ++i) EXPECT_NEAR(l[i], li[i], 1e-14);
+    }
+  }
+}
+
+TEST(GoughPlatform, JacobianTimesInverseIsIdentity) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  std::mt19937_64 rng(11);
+  const IVec box = rf.workspaces.at("paper").initialBox();
+  for (int trial = 0; trial < 200; ++trial) {
+    const DVec q = test::randomPoint(box, rng);
+    const DMat prod = robot.inverseJacobian(q) * robot.jacobian(q);
+    EXPECT_LT((prod - DMat::Identity(6, 6)).cwiseAbs().maxCoeff(), 1e-9);
+  }
+}
+
+TEST(GoughPlatform, SingularPoseIsReportedNotNaN) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  // Platform in the base plane: every leg is horizontal, the z column of J^-1 vanishes.
+  const DVec q = pose6(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+  EXPECT_THROW(robot.jacobian(q), SingularMatrix);
+  EXPECT_THROW(robot.worstErrorAt(q), SingularMatrix);
+  const DVec f = enclosure::errorAtPoseDouble(robot, q);
+  for (int k = 0; k < 6; ++k) EXPECT_TRUE(std::isinf(f[k]));
+  IVec thin(6);
+  for (int i = 0; i < 6; ++i) thin[i] = Interval(q[i]);
+  IVec fi;
+  EXPECT_FALSE(enclosure::errorAtPose(robot, thin, fi));
+}
+
+TEST(GoughPlatform, IntervalEnclosuresContainPointValuesAndDerivatives) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  std::mt19937_64 rng(3);
+  const IVec ws = rf.workspaces.at("paper_40deg").initialBox();
+  std::uniform_real_distribution<double> frac(0.0, 0.3);
+  for (int trial = 0; trial < 300; ++trial) {
+    // Random sub-box, some dimensions of zero width.
+    const DVec c = test::randomPoint(ws, rng);
+    IVec box(6);
+    for (int i = 0; i < 6; ++i) {
+      const double h = (trial % 7 == i) ? 0.0 : frac(rng) * 0.5 * (ws[i].upper() - ws[i].lower());
+      box[i] = Interval(c[i] - h, c[i] + h);
+    }
+    const IMat mi = robot.inverseJacobian(box);
+    MatrixWithGradient mg;
+    DualPose dp;
+    for (int i = 0; i < 6; ++i) dp[i] = DualI::variable(box[i], i);
+    robot.inverseJacobian(dp, mg);
+    for (int s = 0; s < 20; ++s) {
+      const DVec q = test::randomPoint(box, rng);
+      const DMat m = robot.inverseJacobian(q);
+      // Point derivative by dual numbers in double (independent of the interval path's scalar type).
+      using D = interval::Dual<double, 6>;
+      std::array<D, 6> qd;
+      for (int i = 0; i < 6; ++i) qd[i] = D::variable(q[i], i);
+      for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) {
+          const double slack = 1e-13 * (1.0 + std::abs(m(i, j)));
+          EXPECT_LE(mi(i, j).lower() - slack, m(i, j));
+          EXPECT_GE(mi(i, j).upper() + slack, m(i, j));
+          EXPECT_LE(mg.value(i, j).lower() - slack, m(i, j));
+          EXPECT_GE(mg.value(i, j).upper() + slack, m(i, j));
+        }
+      }
+      // Central differences of J^-1 lie in the derivative enclosures (up to the difference error).
+      const double h = 1e-6;
+      for (int v = 0; v < 6; ++v) {
+        if (box[v].isPoint()) continue;
+        DVec qp = q, qm = q;
+        qp[v] += h;
+        qm[v] -= h;
+        const DMat d = (robot.inverseJacobian(qp) - robot.inverseJacobian(qm)) / (2 * h);
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) {
+            EXPECT_LE(mg.d[v](i, j).lower() - 1e-6, d(i, j));
+            EXPECT_GE(mg.d[v](i, j).upper() + 1e-6, d(i, j));
+          }
+      }
+    }
+  }
+}
+
+TEST(GoughPlatform, RejectsInvalidGeometry) {
+  io::RobotFile rf = test::ref6File();
+  model::GoughGeometry g = rf.geometry;
+  g.base_anchors[3] = g.base_anchors[1];
+  EXPECT_THROW(model::GoughPlatform{g}, InvalidGeometry);
+  g = rf.geometry;
+  g.platform_anchors.pop_back();
+  EXPECT_THROW(model::GoughPlatform{g}, InvalidGeometry);
+  g = rf.geometry;
+  g.sensor_error[2] = 0.0;
+  EXPECT_THROW(model::GoughPlatform{g}, InvalidGeometry);
+  g = rf.geometry;
+  g.sensor_error[2] = std::nan("");
+  EXPECT_THROW(model::GoughPlatform{g}, InvalidGeometry);
+  g = rf.geometry;
+  g.base_anchors[0].x() = std::numeric_limits<double>::infinity();
+  try {
+    model::GoughPlatform robot(g);
+    FAIL() << "expected InvalidGeometry";
+  } catch (const InvalidGeometry& e) {
+    EXPECT_NE(std::string(e.what()).find("base_anchors[0]"), std::string::npos) << e.what();
+  }
+}

@@ -1,0 +1,233 @@
+// The branch-and-bound verifier against independent dense sampling (double-precision point evaluations).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <random>
+
+#include "TestRobots.hpp"
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+
+using namespace pkm_accuracy;
+using verify::Verdict;
+
+namespace {
+
+/// Maximum of every component over random points and the corners of a box (a lower estimate of the true maxima).
+DVec sampledMaxima(const model::RobotModel& robot, const IVec& box, int samples, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  DVec best = DVec::Zero(robot.dof());
+  auto account = [&](const DVec& q) {
+    const DVec f = robot.worstErrorAt(q);
+    for (int k = 0; k < robot.dof(); ++k) best[k] = std::max(best[k], f[k]);
+  };
+  for (int s = 0; s < samples; ++s) account(test::randomPoint(box, rng));
+  for (int corner = 0; corner < (1 << box.size()); ++corner) {
+    DVec q(box.size());
+    for (int i = 0; i < box.size(); ++i) q[i] = (corner >> i) & 1 ? box[i].upper() : box[i].lower();
+    account(q);
+  }
+  return best;
+}
+
+struct SubWorkspace {
+  io::RobotFile file = test::ref6File();
+  model::GoughPlatform robot{file.geometry};
+  domain::Workspace ws;
+  explicit SubWorkspace(double fraction)
+      : ws(domain::Workspace::fromRanges(
+            test::toRanges(test::centredSubBox(file.workspaces.at("paper").initialBox(), fraction)))) {}
+};
+
+}  // namespace
+
+TEST(Verifier, SafeTenPercentAboveSampledMaximaUnsafeFivePercentBelow) {
+  SubWorkspace s(1.0 / 16.0);
+  const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 20000, 1);
+  verify::VerifierOptions o;
+  o.thresholds = maxima * 1.10;
+  const auto safe = verify::Verifier::run(s.robot, s.ws, o);
+  EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
+  EXPECT_EQ(safe.undecided_box_count, 0u);
+  EXPECT_NEAR(safe.stats.safe_fraction, 1.0, 1e-9);
+
+  o.thresholds = maxima * 0.95;
+  const auto unsafe = verify::Verifier::run(s.robot, s.ws, o);
+  ASSERT_EQ(unsafe.verdict, Verdict::Unsafe) << unsafe.message;
+  const int k = unsafe.witness_component;
+  ASSERT_GE(k, 0);
+  // The witness lies in the workspace and its (independently computed) worst error really exceeds the threshold.
+  for (int i = 0; i < 6; ++i) EXPECT_TRUE(s.ws.initialBox()[i].contains(unsafe.witness[i]));
+  EXPECT_GT(s.robot.worstErrorAt(unsafe.witness)[k], o.thresholds[k]);
+  EXPECT_GT(unsafe.witness_lower_bound, o.thresholds[k]);
+  EXPECT_LE(unsafe.witness_lower_bound, s.robot.worstErrorAt(unsafe.witness)[k] * (1 + 1e-9));
+}
+
+TEST(Verifier, MaxErrorBracketsSampledMaxima) {
+  SubWorkspace s(1.0 / 32.0);
+  const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 20000, 2);
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.alpha = 0.05;
+  const auto r = verify::Verifier::run(s.robot, s.ws, o);
+  ASSERT_TRUE(r.converged) << r.message;
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_GE(r.max_upper[k], maxima[k]) << k;
+    EXPECT_LE(r.max_upper[k] - r.max_lower[k], o.alpha * r.max_lower[k] * (1 + 1e-9)) << k;
+    // The lower bound is attained at the reported point.
+    ASSERT_EQ(r.max_argmax[k].size(), 6);
+    EXPECT_GE(s.robot.worstErrorAt(r.max_argmax[k])[k], r.max_lower[k] * (1 - 1e-9));
+  }
+}
+
+TEST(Verifier, TinyFixedOrientationMaxErrorBracketsAllSixComponents) {
+  const io::RobotFile rf = test::tinyFile();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("fixed_orientation");
+  const DVec maxima = sampledMaxima(robot, ws.initialBox(), 20000, 3);
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.alpha = 0.01;
+  const auto r = verify::Verifier::run(robot, ws, o);
+  ASSERT_TRUE(r.converged) << r.message;
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_LE(r.max_lower[k], r.max_upper[k]);
+    EXPECT_GE(r.max_upper[k], maxima[k]) << k;
+    EXPECT_GE(r.max_lower[k], maxima[k] * (1 - 0.02)) << k;  // the sampled maximum is close to the true one
+    EXPECT_LE(r.max_upper[k] - r.max_lower[k], o.alpha * r.max_lower[k] * (1 + 1e-9)) << k;
+  }
+}
+
+TEST(Verifier, Paper40DegreesIsUnsafe) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  verify::VerifierOptions o;
+  o.thresholds = DVec(6);
+  o.thresholds << 1e-4, 1e-4, 1e-4, 1e-3, 1e-3, 1e-3;
+  const auto r = verify::Verifier::run(robot, rf.workspaces.at("paper_40deg"), o);
+  ASSERT_EQ(r.verdict, Verdict::Unsafe) << r.message;
+  EXPECT_GT(robot.worstErrorAt(r.witness)[r.witness_component], o.thresholds[r.witness_component]);
+}
+
+TEST(Verifier, ScaleInvariance) {
+  const double scale = 7.0;
+  SubWorkspace s(1.0 / 32.0);
+  model::GoughGeometry g = s.file.geometry;
+  for (auto& a : g.base_anchors) a *= scale;
+  for (auto& b : g.platform_anchors) b *= scale;
+  for (auto& e : g.sensor_error) e *= scale;
+  const model::GoughPlatform scaled(g);
+  IVec box = s.ws.initialBox();
+  for (int i = 0; i < 3; ++i) box[i] = box[i] * Interval(scale);
+  const domain::Workspace wsScaled = domain::Workspace::fromRanges(test::toRanges(box));
+  // Point level: exact scaling.
+  std::mt19937_64 rng(4);
+  for (int t = 0; t < 100; ++t) {
+    DVec q = test::randomPoint(s.ws.initialBox(), rng), qs = q;
+    qs.head<3>() *= scale;
+    const DVec f = s.robot.worstErrorAt(q), fs = scaled.worstErrorAt(qs);
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(fs[k], (k < 3 ? scale : 1.0) * f[k], 1e-9 * fs[k]);
+  }
+  // Certified level: the brackets of the maxima scale the same way (they must overlap after scaling).
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.alpha = 0.05;
+  const auto r1 = verify::Verifier::run(s.robot, s.ws, o);
+  const auto r2 = verify::Verifier::run(scaled, wsScaled, o);
+  ASSERT_TRUE(r1.converged && r2.converged);
+  for (int k = 0; k < 6; ++k) {
+    const double f = k < 3 ? scale : 1.0;
+    EXPECT_LE(r1.max_lower[k] * f, r2.max_upper[k] * (1 + 1e-12)) << k;
+    EXPECT_LE(r2.max_lower[k], r1.max_upper[k] * f * (1 + 1e-12)) << k;
+  }
+}
+
+TEST(Verifier, VerdictDoesNotDependOnThreadCount) {
+  SubWorkspace s(1.0 / 16.0);
+  const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 5000, 6);
+  for (const double factor : {1.10, 0.95}) {
+    verify::VerifierOptions o;
+    o.thresholds = maxima * factor;
+    o.threads = 1;
+    const auto one = verify::Verifier::run(s.robot, s.ws, o);
+    o.threads = 2;
+    const auto two = verify::Verifier::run(s.robot, s.ws, o);
+    EXPECT_EQ(one.verdict, two.verdict) << factor;
+    EXPECT_EQ(two.stats.threads, 2);
+  }
+}
+
+TEST(Verifier, BudgetsAndCancellationGiveUndecidedWithTheirReason) {
+  SubWorkspace s(1.0 / 4.0);
+  const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 2000, 8);
+  verify::VerifierOptions o;
+  o.thresholds = maxima * 1.01;
+  o.max_boxes = 50;
+  auto r = verify::Verifier::run(s.robot, s.ws, o);
+  EXPECT_EQ(r.verdict, Verdict::Undecided);
+  EXPECT_EQ(r.reason, verify::UndecidedReason::BoxBudget);
+  EXPECT_GT(r.undecided_box_count, 0u);
+  EXPECT_NEAR(r.stats.safe_fraction + r.stats.undecided_fraction + r.stats.outside_fraction, 1.0, 1e-9);
+
+  o.max_boxes = 0;
+  std::atomic<bool> cancel{true};
+  o.cancel = &cancel;
+  r = verify::Verifier::run(s.robot, s.ws, o);
+  EXPECT_EQ(r.verdict, Verdict::Undecided);
+  EXPECT_EQ(r.reason, verify::UndecidedReason::Cancelled);
+
+  o.cancel = nullptr;
+  o.time_limit_s = 0.2;
+  int calls = 0;
+  o.progress = [&](const verify::Progress&) { ++calls; };
+  o.progress_period_s = 0.05;
+  r = verify::Verifier::run(s.robot, s.ws, o);
+  EXPECT_EQ(r.verdict, Verdict::Undecided);
+  EXPECT_EQ(r.reason, verify::UndecidedReason::TimeBudget);
+  EXPECT_LT(r.stats.seconds, 2.0);
+  EXPECT_GE(calls, 1);
+}
+
+TEST(Verifier, BadInputGetsTypedErrorsNamingTheField) {
+  SubWorkspace s(1.0 / 16.0);
+  auto expectInvalid = [&](const verify::VerifierOptions& o, const std::string& field) {
+    try {
+      verify::Verifier::run(s.robot, s.ws, o);
+      ADD_FAILURE() << "expected InvalidArgument for " << field;
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  verify::VerifierOptions o;
+  expectInvalid(o, "thresholds");  // missing in verify mode
+  o.thresholds = DVec::Constant(5, 1e-3);
+  expectInvalid(o, "thresholds");
+  o.thresholds = DVec::Constant(6, 1e-3);
+  o.thresholds[2] = 0.0;
+  expectInvalid(o, "thresholds[2]");
+  o.thresholds[2] = std::nan("");
+  expectInvalid(o, "thresholds[2]");
+  o.thresholds[2] = std::numeric_limits<double>::infinity();
+  expectInvalid(o, "thresholds[2]");
+  o.thresholds[2] = 1e-3;
+  o.method = "magic";
+  expectInvalid(o, "method");
+  o.method = "mean_value";
+  o.mode = verify::Mode::MaxError;
+  o.alpha = -1;
+  expectInvalid(o, "alpha");
+  o.alpha = 0.01;
+  o.min_width = DVec::Constant(6, -1.0);
+  expectInvalid(o, "min_width");
+  o.min_width = DVec::Constant(3, 1.0);
+  expectInvalid(o, "min_width");
+  // Workspace ranges.
+  std::array<Interval, 6> r = test::toRanges(s.ws.initialBox());
+  r[4] = Interval::empty();
+  EXPECT_THROW(domain::Workspace::fromRanges(r), InvalidArgument);
+  r[4] = Interval::entire();
+  EXPECT_THROW(domain::Workspace::fromRanges(r), InvalidArgument);
+  EXPECT_THROW(Interval(1.0, 0.0), InvalidArgument);
+  EXPECT_THROW(Interval(std::nan(""), 0.0), InvalidArgument);
+}
