@@ -1,0 +1,96 @@
+// Verifier scenarios on the reference robots; prints one table row per scenario with boxes, seconds, verdict and
+// peak memory. Usage: verifier_bench [time_limit_s] (default 120: the long scenarios stop there, UNDECIDED).
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include "BenchCommon.hpp"
+#include "pkm_accuracy/core/model/GoughPlatform.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+#include "pkm_accuracy/io/RobotFile.hpp"
+
+using namespace pkm_accuracy;
+
+namespace {
+
+void row(const std::string& scenario, const verify::VerifierResult& r) {
+  std::printf("%-44s %-10s %-16s %12zu %10.3f %6d %9.1f\n", scenario.c_str(), verify::toString(r.verdict).c_str(),
+              verify::toString(r.reason).c_str(), r.stats.boxes, r.stats.seconds, r.stats.threads, bench::peakRssMiB());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const double limit = argc > 1 ? std::atof(argv[1]) : 120.0;
+  const io::RobotFile ref = io::loadRobotFile(bench::sourceDir() + "/config/ref6.yaml");
+  const io::RobotFile tiny = io::loadRobotFile(bench::sourceDir() + "/config/tiny_fixed_orientation.yaml");
+  const model::GoughPlatform ref6(ref.geometry), tiny6(tiny.geometry);
+  const domain::Workspace& paper = ref.workspaces.at("paper");
+  const domain::Workspace& paper40 = ref.workspaces.at("paper_40deg");
+  const domain::Workspace& fixedWs = tiny.workspaces.at("fixed_orientation");
+
+  DVec lo, hiPaper, hiTiny;
+  bench::sampledRange(ref6, paper.initialBox(), 200000, lo, hiPaper);
+  bench::sampledRange(tiny6, fixedWs.initialBox(), 200000, lo, hiTiny);
+  std::printf("time limit per scenario: %.0f s; thresholds = factor x maxima sampled at 2e5 points + corners\n", limit);
+  std::printf("sampled maxima paper: ");
+  for (int k = 0; k < 6; ++k) std::printf("%.6g ", hiPaper[k]);
+  std::printf("\nsampled maxima tiny:  ");
+  for (int k = 0; k < 6; ++k) std::printf("%.6g ", hiTiny[k]);
+  std::printf("\n%-44s %-10s %-16s %12s %10s %6s %9s\n", "scenario", "verdict", "reason", "boxes", "seconds", "thr",
+              "peakMiB");
+
+  verify::VerifierOptions o;
+  o.time_limit_s = limit;
+
+  // paper_40deg UNSAFE (thresholds: 5% above the paper maxima).
+  o.thresholds = hiPaper * 1.05;
+  row("paper_40deg UNSAFE, 2 threads", verify::Verifier::run(ref6, paper40, o));
+
+  // tiny fixed orientation at +5%: default vs paper_baseline with round-robin bisection.
+  o.thresholds = hiTiny * 1.05;
+  const auto tinyDefault = verify::Verifier::run(tiny6, fixedWs, o);
+  row("tiny +5% mean_value smear, 2 threads", tinyDefault);
+  verify::VerifierOptions b = o;
+  b.method = "paper_baseline";
+  b.bisection = verify::Bisection::RoundRobin;
+  b.time_limit_s = std::min(limit, 60.0);
+  const auto tinyBaseline = verify::Verifier::run(tiny6, fixedWs, b);
+  row("tiny +5% paper_baseline round-robin", tinyBaseline);
+  std::printf("  ratio baseline/default seconds: %.1f%s\n", tinyBaseline.stats.seconds / tinyDefault.stats.seconds,
+              tinyBaseline.verdict == verify::Verdict::Undecided ? " (baseline did not finish: lower bound)" : "");
+
+  // Thread scaling on a sub-workspace (1/8 of every range) at +5% of its own sampled maxima.
+  {
+    IVec sub(6);
+    const IVec w = paper.initialBox();
+    for (int i = 0; i < 6; ++i) sub[i] = bench::subBox(w, domain::centreOf(w), 0.125)[i];
+    std::array<Interval, 6> r;
+    for (int i = 0; i < 6; ++i) r[i] = sub[i];
+    const domain::Workspace subWs = domain::Workspace::fromRanges(r);
+    DVec hiSub;
+    bench::sampledRange(ref6, sub, 50000, lo, hiSub);
+    verify::VerifierOptions t = o;
+    t.thresholds = hiSub * 1.05;
+    t.threads = 1;
+    const auto one = verify::Verifier::run(ref6, subWs, t);
+    row("paper 1/8 sub-box +5%, 1 thread", one);
+    t.threads = 2;
+    const auto two = verify::Verifier::run(ref6, subWs, t);
+    row("paper 1/8 sub-box +5%, 2 threads", two);
+    std::printf("  speed-up 2 threads vs 1: %.2f\n", one.stats.seconds / two.stats.seconds);
+  }
+
+  // The full paper workspace at +5% (the headline scenario).
+  o.thresholds = hiPaper * 1.05;
+  row("paper +5% SAFE?, 2 threads", verify::Verifier::run(ref6, paper, o));
+
+  // Max-error mode to 1% on the paper workspace.
+  verify::VerifierOptions m = o;
+  m.mode = verify::Mode::MaxError;
+  m.alpha = 0.01;
+  m.thresholds.resize(0);
+  row("paper max-error alpha=1%, 2 threads", verify::Verifier::run(ref6, paper, m));
+  return 0;
+}
