@@ -1,7 +1,500 @@
-// pkm_verify: command-line verifier (stub until the verifier lands: it parses nothing and says so).
-#include <iostream>
+// pkm_verify: command-line verifier of the worst-case positioning accuracy of a Gough-Stewart platform over a
+// workspace (no ROS). See usage() for the arguments and the exit codes, README.md "Command-line tool".
+#include <unistd.h>
 
-int main(int, char**) {
-  std::cerr << "pkm_verify: not implemented yet (the verifier is under construction)\n";
-  return 4;
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <sys/stat.h>
+
+#include "CommandLine.hpp"
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/model/GoughPlatform.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+#include "pkm_accuracy/io/ResultWriter.hpp"
+#include "pkm_accuracy/io/RobotFile.hpp"
+
+namespace {
+
+using namespace pkm_accuracy;
+using tools::badArgument;
+
+enum ExitCode : int { kSafe = 0, kUnsafe = 1, kUndecided = 2, kBadInput = 3, kInternal = 4 };
+
+const char* const kComponents[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+const char* const kUnits[6] = {"m", "m", "m", "rad", "rad", "rad"};
+const char* const kVariables[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+
+std::string methodList() {
+  std::string list;
+  for (const auto& n : enclosure::enclosureNames()) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
+void usage(std::ostream& os) {
+  os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE] [--thresholds dx,dy,dz,rx,ry,rz]\n"
+        "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
+        "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
+        "                  [--bisection smear|width|round-robin] [--json OUT] [--yaml OUT] [--quiet] [--progress]\n"
+        "       pkm_verify --robot FILE --list-workspaces\n"
+        "       pkm_verify --help\n"
+        "\n"
+        "Certifies the worst-case positioning error of a Gough-Stewart platform over a workspace (interval analysis\n"
+        "and branch-and-bound; no ROS). Units: m and rad. Options also accept the form --name=value.\n"
+        "\n"
+        "Input:\n"
+        "  --robot FILE           robot file in the format of config/ref6.yaml (required)\n"
+        "  --workspace NAME|FILE  a workspace of the robot file's `workspaces:` map, or a workspace YAML file\n"
+        "                         (keys x, y, z, roll, pitch, yaw, optional region); default: the robot file's only\n"
+        "                         workspace, else the one named `paper`\n"
+        "  --list-workspaces      print the workspaces of the robot file and exit\n"
+        "  --uncertainty H        half-width (m, >= 0) of every anchor coordinate; overrides the file's\n"
+        "                         anchor_uncertainty\n"
+        "Problem:\n"
+        "  --mode MODE            verify (default): SAFE / UNSAFE / UNDECIDED against the thresholds;\n"
+        "                         max-error: certified bracket [lower, upper] of the maximal error of every component\n"
+        "  --thresholds LIST      6 comma-separated finite numbers > 0: dx,dy,dz (m), rx,ry,rz (rad); required in\n"
+        "                         verify mode, optional in max-error mode (then the verdict compares the bracket)\n"
+        "  --alpha A              max-error: stop when upper - lower <= A * lower for every component (default 0.01)\n"
+        "Algorithm:\n"
+        "  --method NAME          enclosure method: "
+     << methodList()
+     << " (default: the first)\n"
+        "  --bisection RULE       smear (default), width, round-robin\n"
+        "  --min-width LIST       6 numbers >= 0: boxes narrower than this in every variable are not split (m, m, m,\n"
+        "                         rad, rad, rad; default 1e-5 of the workspace's width)\n"
+        "  --threads N            worker threads (default 0: all hardware threads)\n"
+        "  --time-limit S         stop after S seconds of wall time (default 0: no limit)\n"
+        "  --max-boxes N          stop after N boxes (default 0: no limit)\n"
+        "Output:\n"
+        "  --json OUT             write the result as JSON to OUT ('-': standard output; the summary then goes\n"
+        "                         to stderr)\n"
+        "  --yaml OUT             write the result as YAML to OUT ('-': standard output)\n"
+        "  --quiet                no summary on standard output, no progress line\n"
+        "  --progress             show the progress line on stderr even if stderr is not a terminal (default: only\n"
+        "                         on a terminal, for runs longer than a second)\n"
+        "  --help                 this text\n"
+        "\n"
+        "Ctrl-C stops the run: the result is UNDECIDED (cancelled) and the reports are still written.\n"
+        "\n"
+        "Exit codes:\n"
+        "  0  SAFE: every pose of the workspace is certified within every threshold\n"
+        "     (max-error mode without thresholds: the bracket converged to alpha)\n"
+        "  1  UNSAFE: a certified witness pose exceeds a threshold\n"
+        "  2  UNDECIDED: neither (budget exhausted, precision limit or interrupted; max-error mode without\n"
+        "     thresholds: the bracket did not converge)\n"
+        "  3  bad input: bad arguments, unreadable files or invalid values (one line on stderr names the argument\n"
+        "     or field)\n"
+        "  4  internal error\n"
+        "\n"
+        "Example:\n"
+        "  pkm_verify --robot config/ref6.yaml --workspace paper_40deg \\\n"
+        "             --thresholds 1e-4,1e-4,1e-4,1e-3,1e-3,1e-3 --json result.json\n";
+}
+
+// ---- arguments -----------------------------------------------------------------------------------------------------
+struct Arguments {
+  bool help = false;
+  bool list_workspaces = false;
+  bool quiet = false;
+  bool progress = false;
+  std::string robot;
+  std::string workspace;
+  std::optional<double> uncertainty;
+  std::string json, yaml;
+  verify::VerifierOptions options;
+  std::vector<double> min_width;  // validated against the domain's variables later
+};
+
+/// 6 comma-separated numbers, one per error component (names = kComponents) or per workspace variable.
+std::vector<double> parseSix(const std::string& arg, const std::string& text, double lo, bool strict,
+                             const char* const* names, const std::string& what) {
+  const auto items = tools::splitList(text);
+  if (items.size() != 6) {
+    badArgument(arg, "expected 6 comma-separated values (" + what + "), got " + std::to_string(items.size()) + " in '" +
+                         text + "'");
+  }
+  std::vector<double> v;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    v.push_back(
+        tools::parseBounded(arg + "[" + std::to_string(k) + "] (" + names[k] + ")", items[k], lo, strict, kUnits[k]));
+  }
+  return v;
+}
+
+Arguments parseArguments(int argc, char** argv) {
+  Arguments a;
+  bool haveThresholds = false;
+  std::string thresholdsText;
+  // Options that take a value.
+  static const std::vector<std::string> withValue = {
+      "--robot",   "--workspace",  "--thresholds", "--mode", "--alpha",     "--uncertainty", "--method",
+      "--threads", "--time-limit", "--json",       "--yaml", "--max-boxes", "--min-width",   "--bisection"};
+  static const std::vector<std::string> flags = {"--help", "-h", "--list-workspaces", "--quiet", "-q", "--progress"};
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    std::string value;
+    bool inlineValue = false;
+    if (arg.rfind("--", 0) == 0) {
+      const auto eq = arg.find('=');
+      if (eq != std::string::npos) {
+        value = arg.substr(eq + 1);
+        arg = arg.substr(0, eq);
+        inlineValue = true;
+      }
+    }
+    const bool takesValue = std::find(withValue.begin(), withValue.end(), arg) != withValue.end();
+    const bool isFlag = std::find(flags.begin(), flags.end(), arg) != flags.end();
+    if (!takesValue && !isFlag) {
+      if (arg.empty() || arg[0] != '-') badArgument(arg, "unexpected argument (options start with --; see --help)");
+      badArgument(arg, "unknown option (see --help)");
+    }
+    if (isFlag && inlineValue) badArgument(arg, "takes no value");
+    if (takesValue && !inlineValue) {
+      if (i + 1 >= argc) badArgument(arg, "missing value");
+      value = argv[++i];
+    }
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+    } else if (arg == "--list-workspaces") {
+      a.list_workspaces = true;
+    } else if (arg == "--quiet" || arg == "-q") {
+      a.quiet = true;
+    } else if (arg == "--progress") {
+      a.progress = true;
+    } else if (arg == "--robot") {
+      if (value.empty()) badArgument(arg, "expected a file name, got an empty value");
+      a.robot = value;
+    } else if (arg == "--workspace") {
+      if (value.empty()) badArgument(arg, "expected a workspace name or file, got an empty value");
+      a.workspace = value;
+    } else if (arg == "--thresholds") {
+      haveThresholds = true;
+      thresholdsText = value;
+    } else if (arg == "--mode") {
+      if (value == "verify") {
+        a.options.mode = verify::Mode::Verify;
+      } else if (value == "max-error" || value == "max_error") {
+        a.options.mode = verify::Mode::MaxError;
+      } else {
+        badArgument(arg, "expected verify or max-error, got '" + value + "'");
+      }
+    } else if (arg == "--alpha") {
+      a.options.alpha = tools::parseBounded(arg, value, 0.0, true);
+    } else if (arg == "--uncertainty") {
+      a.uncertainty = tools::parseBounded(arg, value, 0.0, false, "m");
+    } else if (arg == "--method") {
+      const auto names = enclosure::enclosureNames();
+      if (std::find(names.begin(), names.end(), value) == names.end()) {
+        badArgument(arg, "unknown method '" + value + "' (expected one of " + methodList() + ")");
+      }
+      a.options.method = value;
+    } else if (arg == "--threads") {
+      a.options.threads = static_cast<int>(tools::parseCount(arg, value, 4096));
+    } else if (arg == "--time-limit") {
+      a.options.time_limit_s = tools::parseBounded(arg, value, 0.0, false, "s");
+    } else if (arg == "--max-boxes") {
+      a.options.max_boxes = static_cast<std::size_t>(tools::parseCount(arg, value));
+    } else if (arg == "--min-width") {
+      a.min_width = parseSix(arg, value, 0.0, false, kVariables, "x,y,z in m, roll,pitch,yaw in rad");
+    } else if (arg == "--bisection") {
+      if (value == "smear") {
+        a.options.bisection = verify::Bisection::Smear;
+      } else if (value == "width") {
+        a.options.bisection = verify::Bisection::LargestScaledWidth;
+      } else if (value == "round-robin" || value == "round_robin") {
+        a.options.bisection = verify::Bisection::RoundRobin;
+      } else {
+        badArgument(arg, "expected smear, width or round-robin, got '" + value + "'");
+      }
+    } else if (arg == "--json") {
+      if (value.empty()) badArgument(arg, "expected a file name or -, got an empty value");
+      a.json = value;
+    } else if (arg == "--yaml") {
+      if (value.empty()) badArgument(arg, "expected a file name or -, got an empty value");
+      a.yaml = value;
+    }
+  }
+  if (a.help) return a;
+  if (a.robot.empty()) badArgument("--robot", "required (the robot file, e.g. config/ref6.yaml; see --help)");
+  if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
+  if (haveThresholds) {
+    const auto t = parseSix("--thresholds", thresholdsText, 0.0, true, kComponents, "dx,dy,dz in m, rx,ry,rz in rad");
+    a.options.thresholds = DVec::Zero(6);
+    for (int k = 0; k < 6; ++k) a.options.thresholds[k] = t[k];
+  } else if (a.options.mode == verify::Mode::Verify && !a.list_workspaces) {
+    badArgument("--thresholds",
+                "required in verify mode: 6 comma-separated values > 0, dx,dy,dz (m) and rx,ry,rz (rad), e.g. "
+                "--thresholds 1e-4,1e-4,1e-4,1e-3,1e-3,1e-3 (or use --mode max-error)");
+  }
+  return a;
+}
+
+// ---- robot and workspace -------------------------------------------------------------------------------------------
+std::string workspaceNames(const io::RobotFile& robot) {
+  std::string names;
+  for (const auto& kv : robot.workspaces) names += (names.empty() ? "" : ", ") + kv.first;
+  return names.empty() ? "none" : names;
+}
+
+bool isRegularFile(const std::string& path) {
+  struct stat st;
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/// Resolves --workspace: a name of the robot file, else an existing file; default: the only one, else `paper`.
+domain::Workspace resolveWorkspace(const io::RobotFile& robot, const Arguments& a, std::string& label) {
+  if (a.workspace.empty()) {
+    if (robot.workspaces.size() == 1) {
+      label = robot.workspaces.begin()->first;
+      return robot.workspaces.begin()->second;
+    }
+    const auto paper = robot.workspaces.find("paper");
+    if (paper != robot.workspaces.end()) {
+      label = paper->first;
+      return paper->second;
+    }
+    badArgument("--workspace", "required: " + a.robot + " has " +
+                                   (robot.workspaces.empty() ? std::string("no workspaces")
+                                                             : "several workspaces (" + workspaceNames(robot) + ")") +
+                                   "; pass --workspace NAME or --workspace FILE");
+  }
+  label = a.workspace;
+  const auto named = robot.workspaces.find(a.workspace);
+  if (named != robot.workspaces.end()) return named->second;
+  if (isRegularFile(a.workspace)) {
+    try {
+      return io::parseWorkspaceFile(a.workspace);
+    } catch (const InvalidArgument& e) {
+      badArgument("--workspace", e.what());
+    } catch (const std::exception& e) {
+      badArgument("--workspace", a.workspace + ": cannot read: " + e.what());
+    }
+  }
+  badArgument("--workspace", "'" + a.workspace + "' is neither a workspace of " + a.robot + " (" +
+                                 workspaceNames(robot) + ") nor a readable workspace file");
+}
+
+void listWorkspaces(const io::RobotFile& robot, const std::string& path) {
+  std::cout << path << ": " << robot.workspaces.size() << " workspace" << (robot.workspaces.size() == 1 ? "" : "s")
+            << "\n";
+  for (const auto& kv : robot.workspaces) {
+    const IVec& b = kv.second.initialBox();
+    std::cout << "  " << kv.first << " (" << kv.second.region().typeName() << "):";
+    for (int i = 0; i < b.size(); ++i) {
+      std::cout << " " << kv.second.variableName(i).substr(0, kv.second.variableName(i).find(' ')) << " ["
+                << tools::shortNumber(b[i].lower()) << ", " << tools::shortNumber(b[i].upper()) << "]";
+    }
+    std::cout << "\n";
+  }
+}
+
+/// Checks that an output file can be written before a possibly long run (creates it if missing, keeps contents).
+void checkWritable(const std::string& arg, const std::string& path) {
+  if (path == "-") return;
+  std::ofstream f(path, std::ios::out | std::ios::app);
+  if (!f) badArgument(arg, "cannot open '" + path + "' for writing");
+}
+
+// ---- progress and interruption -------------------------------------------------------------------------------------
+std::atomic<bool> g_cancel{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void onSignal(int) { g_cancel.store(true); }
+
+void installSignalHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;  // a second Ctrl-C terminates at once
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+/// Status line on stderr: redrawn in place on a terminal, one line per report otherwise (only with --progress).
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool terminal) : terminal_(terminal) {}
+
+  void update(const verify::Progress& p) {
+    if (p.stats.seconds < 1.0) return;  // short runs stay silent
+    const auto& s = p.stats;
+    const double done = std::min(1.0, s.safe_fraction + s.unsafe_fraction + s.undecided_fraction + s.outside_fraction);
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(done * kWidth);
+    char line[256];
+    std::snprintf(line, sizeof line, "[%s%s] %6.2f%% of the volume closed, %zu boxes, %.1f s, depth %d%s",
+                  std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                  std::string(static_cast<std::size_t>(kWidth - filled), '.').c_str(), 100.0 * done, s.boxes, s.seconds,
+                  s.max_depth, terminal_ ? " (Ctrl-C stops)" : "");
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (terminal_) {
+      std::fprintf(stderr, "\r\033[K%s", line);
+    } else {
+      std::fprintf(stderr, "pkm_verify: %s\n", line);
+    }
+    std::fflush(stderr);
+    shown_ = true;
+  }
+
+  /// Clears the status line (terminal) before the summary.
+  void finish() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (terminal_ && shown_) std::fprintf(stderr, "\r\033[K");
+    std::fflush(stderr);
+  }
+
+ private:
+  const bool terminal_;
+  bool shown_ = false;
+  std::mutex mutex_;
+};
+
+// ---- the run -------------------------------------------------------------------------------------------------------
+int exitCodeOf(const verify::VerifierResult& r, const verify::VerifierOptions& o) {
+  if (o.mode == verify::Mode::MaxError && o.thresholds.size() == 0) return r.converged ? kSafe : kUndecided;
+  switch (r.verdict) {
+    case verify::Verdict::Safe:
+      return kSafe;
+    case verify::Verdict::Unsafe:
+      return kUnsafe;
+    case verify::Verdict::Undecided:
+      return kUndecided;
+  }
+  return kInternal;
+}
+
+int run(int argc, char** argv) {
+  Arguments a = parseArguments(argc, argv);
+  if (a.help) {
+    usage(std::cout);
+    return 0;
+  }
+
+  struct stat st;
+  if (::stat(a.robot.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    badArgument("--robot", a.robot + ": not a regular file");
+  }
+  io::RobotFile robot = [&] {
+    try {
+      return io::loadRobotFile(a.robot);
+    } catch (const InvalidArgument& e) {
+      badArgument("--robot", e.what());
+    } catch (const std::exception& e) {  // e.g. an I/O error of the stream under the YAML parser
+      badArgument("--robot", a.robot + ": cannot read: " + e.what());
+    }
+  }();
+  if (a.list_workspaces) {
+    listWorkspaces(robot, a.robot);
+    return 0;
+  }
+  if (a.uncertainty) {
+    robot.geometry.setUniformAnchorUncertainty(*a.uncertainty);
+    try {
+      robot.geometry.validate();
+    } catch (const InvalidArgument& e) {
+      badArgument("--uncertainty", e.what());
+    }
+  }
+  const model::GoughPlatform model(robot.geometry);
+
+  io::RunInfo info;
+  const domain::Workspace workspace = resolveWorkspace(robot, a, info.workspace);
+  info.robot = a.robot;
+  info.workspace_region = workspace.region().typeName();
+  info.workspace_box = workspace.initialBox();
+  for (int i = 0; i < workspace.variables(); ++i) info.variables.push_back(workspace.variableName(i));
+  info.components.assign(std::begin(kComponents), std::end(kComponents));
+  info.units.assign(std::begin(kUnits), std::end(kUnits));
+  info.anchor_uncertainty = a.uncertainty ? *a.uncertainty : 0.0;
+  if (!a.uncertainty && robot.geometry.hasUncertainty() && !robot.geometry.base_anchor_halfwidth.empty()) {
+    info.anchor_uncertainty = robot.geometry.base_anchor_halfwidth.front()[0];
+  }
+
+  verify::VerifierOptions& options = a.options;
+  if (!a.min_width.empty()) {
+    if (static_cast<int>(a.min_width.size()) != workspace.variables()) {
+      badArgument("--min-width", "expected " + std::to_string(workspace.variables()) + " values, got " +
+                                     std::to_string(a.min_width.size()));
+    }
+    options.min_width = DVec::Zero(workspace.variables());
+    for (int i = 0; i < workspace.variables(); ++i) options.min_width[i] = a.min_width[i];
+  }
+  verify::Verifier::validate(model, workspace, options);  // anything left: the message names the field
+  if (!a.json.empty()) checkWritable("--json", a.json);
+  if (!a.yaml.empty()) checkWritable("--yaml", a.yaml);
+
+  const bool stdoutReport = a.json == "-" || a.yaml == "-";
+  const bool terminal = ::isatty(STDERR_FILENO) == 1;
+  std::unique_ptr<ProgressLine> progress;
+  if (!a.quiet && (terminal || a.progress)) {
+    progress = std::make_unique<ProgressLine>(terminal);
+    options.progress = [&progress](const verify::Progress& p) { progress->update(p); };
+    options.progress_period_s = terminal ? 0.25 : 2.0;
+  }
+  options.cancel = &g_cancel;
+  installSignalHandlers();
+
+  const verify::VerifierResult result = verify::Verifier::run(model, workspace, options);
+  if (progress) progress->finish();
+  const int code = exitCodeOf(result, options);
+  info.exit_code = code;
+
+  if (!a.json.empty()) {
+    try {
+      io::writeTextFile(a.json, io::toJson(result, options, info));
+    } catch (const InvalidArgument& e) {
+      badArgument("--json", e.what());
+    }
+  }
+  if (!a.yaml.empty()) {
+    try {
+      io::writeTextFile(a.yaml, io::toYaml(result, options, info));
+    } catch (const InvalidArgument& e) {
+      badArgument("--yaml", e.what());
+    }
+  }
+  if (!a.quiet) {
+    std::ostringstream summary;
+    io::writeSummary(summary, result, options, info);
+    (stdoutReport ? std::cerr : std::cout) << summary.str() << std::flush;
+  }
+  return code;
+}
+
+/// One line: newlines of nested messages (e.g. YAML parser errors) become spaces.
+std::string oneLine(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const pkm_accuracy::InvalidArgument& e) {  // also ParseError, InvalidGeometry
+    std::cerr << "pkm_verify: error: " << oneLine(e.what()) << "\n";
+    return kBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "pkm_verify: internal error: " << oneLine(e.what()) << "\n";
+    return kInternal;
+  } catch (...) {
+    std::cerr << "pkm_verify: internal error: unknown exception\n";
+    return kInternal;
+  }
 }

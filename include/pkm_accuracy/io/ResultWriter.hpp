@@ -1,0 +1,71 @@
+// Reports of a verifier run: JSON (hand-written, strict RFC 8259), YAML (block style, same keys and values) and a
+// human summary. ROS-free; used by the command-line tool pkm_verify.
+//
+// Numbers are printed with up to 17 significant digits: the shortest of %.15g, %.16g, %.17g that reads back to the
+// same double (so 1e-4 prints as 1e-4, and nothing is lost). +-inf and NaN are never printed as bare tokens: JSON
+// writes null, YAML writes .inf / -.inf / .nan (standard YAML floats).
+//
+// JSON / YAML keys (every key is always present; null where it does not apply):
+//   tool, exit_code, verdict ("SAFE" | "UNSAFE" | "UNDECIDED"), reason ("none", "precision_limit", ...), message,
+//   mode ("verify" | "max-error"), robot, workspace, workspace_region, workspace_box ([[lo, hi] x variables]),
+//   variables (names), components (["dx", "dy", "dz", "rx", "ry", "rz"]), units (["m", "m", "m", "rad", ...]),
+//   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty,
+//   witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the domain's variables),
+//   witness_component (index), witness_component_name, witness_lower_bound, witness_error_lower ([6] or null),
+//   max_error: {lower: [6], upper: [6], converged, argmax: [[...] per component or null]} in max-error mode,
+//   stats: {boxes, seconds, max_depth, safe_fraction, unsafe_fraction, undecided_fraction, outside_fraction,
+//           threads},
+//   undecided_boxes: {count, recorded, listed, boxes: [[[lo, hi] x variables] ...], upper: [[6] ...]}.
+#pragma once
+
+#include <cstddef>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "pkm_accuracy/core/Types.hpp"
+#include "pkm_accuracy/core/verify/VerifierOptions.hpp"
+#include "pkm_accuracy/core/verify/VerifierResult.hpp"
+
+namespace pkm_accuracy {
+namespace io {
+
+/// What the result refers to (the result itself does not know its robot, domain or options).
+struct RunInfo {
+  std::string tool = "pkm_verify";
+  std::string robot;                   ///< robot file path
+  std::string workspace;               ///< workspace name (from the robot file) or workspace file path
+  std::string workspace_region;        ///< "box", "cylinder", "sphere", "polyhedron"
+  IVec workspace_box;                  ///< initial box of the domain's variables
+  std::vector<std::string> variables;  ///< names of the domain's variables
+  std::vector<std::string> components = {"dx", "dy", "dz", "rx", "ry", "rz"};  ///< error components
+  std::vector<std::string> units = {"m", "m", "m", "rad", "rad", "rad"};       ///< unit of each component
+  double anchor_uncertainty = 0.0;     ///< m (half-width of every anchor coordinate)
+  int exit_code = -1;                  ///< the process exit code, if known (-1: not written)
+  std::size_t max_listed_boxes = 100;  ///< undecided boxes listed in the reports
+};
+
+/// Name of a mode as on the command line: "verify", "max-error".
+std::string modeName(verify::Mode mode);
+/// Name of a bisection rule as on the command line: "smear", "width", "round-robin".
+std::string bisectionName(verify::Bisection bisection);
+
+/// A double as JSON: up to 17 significant digits (exact round trip), "null" for inf / NaN.
+std::string jsonNumber(double x);
+/// A string as a JSON string literal (quotes and escapes included).
+std::string jsonString(const std::string& s);
+
+/// The whole report as one JSON object (ends with a newline).
+std::string toJson(const verify::VerifierResult& result, const verify::VerifierOptions& options, const RunInfo& info);
+/// The same content as a YAML document (ends with a newline).
+std::string toYaml(const verify::VerifierResult& result, const verify::VerifierOptions& options, const RunInfo& info);
+
+/// Human summary: verdict, message, witness, per-component bounds with units, statistics, undecided boxes.
+void writeSummary(std::ostream& os, const verify::VerifierResult& result, const verify::VerifierOptions& options,
+                  const RunInfo& info);
+
+/// Writes `text` to `path` ("-": standard output). @throws InvalidArgument naming the path if it cannot be written.
+void writeTextFile(const std::string& path, const std::string& text);
+
+}  // namespace io
+}  // namespace pkm_accuracy

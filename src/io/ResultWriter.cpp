@@ -1,0 +1,524 @@
+#include "pkm_accuracy/io/ResultWriter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <ostream>
+#include <sstream>
+#include <utility>
+
+#include "pkm_accuracy/core/Exceptions.hpp"
+
+namespace pkm_accuracy {
+namespace io {
+namespace {
+
+/// Plain YAML keys for identifiers, double-quoted otherwise.
+std::string yamlKey(const std::string& key) {
+  const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+  return plain ? key : jsonString(key);
+}
+
+// ---- a small document tree, written both as JSON and as YAML ------------------------------------------------------
+class Node {
+ public:
+  enum class Kind { Null, Bool, Number, Integer, String, Array, Object };
+
+  Node() = default;
+  static Node number(double x) {
+    Node n(Kind::Number);
+    n.number_ = x;
+    return n;
+  }
+  static Node integer(long long x) {
+    Node n(Kind::Integer);
+    n.integer_ = x;
+    return n;
+  }
+  static Node boolean(bool b) {
+    Node n(Kind::Bool);
+    n.bool_ = b;
+    return n;
+  }
+  static Node string(std::string s) {
+    Node n(Kind::String);
+    n.string_ = std::move(s);
+    return n;
+  }
+  static Node array() { return Node(Kind::Array); }
+  static Node object() { return Node(Kind::Object); }
+
+  Node& push(Node n) {
+    items_.push_back(std::move(n));
+    return *this;
+  }
+  Node& set(const std::string& key, Node n) {
+    members_.emplace_back(key, std::move(n));
+    return *this;
+  }
+
+  Kind kind() const { return kind_; }
+  /// Arrays holding no object (printed on one line).
+  bool flat() const {
+    if (kind_ == Kind::Object) return false;
+    for (const Node& n : items_)
+      if (!n.flat()) return false;
+    return true;
+  }
+
+  void writeJson(std::ostream& os, int indent) const {
+    switch (kind_) {
+      case Kind::Null:
+        os << "null";
+        return;
+      case Kind::Bool:
+        os << (bool_ ? "true" : "false");
+        return;
+      case Kind::Number:
+        os << jsonNumber(number_);
+        return;
+      case Kind::Integer:
+        os << integer_;
+        return;
+      case Kind::String:
+        os << jsonString(string_);
+        return;
+      case Kind::Array: {
+        if (flat()) {
+          os << '[';
+          for (std::size_t i = 0; i < items_.size(); ++i) {
+            if (i > 0) os << ", ";
+            items_[i].writeJson(os, indent);
+          }
+          os << ']';
+          return;
+        }
+        os << "[\n";
+        for (std::size_t i = 0; i < items_.size(); ++i) {
+          os << std::string(indent + 2, ' ');
+          items_[i].writeJson(os, indent + 2);
+          os << (i + 1 < items_.size() ? ",\n" : "\n");
+        }
+        os << std::string(indent, ' ') << ']';
+        return;
+      }
+      case Kind::Object: {
+        if (members_.empty()) {
+          os << "{}";
+          return;
+        }
+        os << "{\n";
+        for (std::size_t i = 0; i < members_.size(); ++i) {
+          os << std::string(indent + 2, ' ') << jsonString(members_[i].first) << ": ";
+          members_[i].second.writeJson(os, indent + 2);
+          os << (i + 1 < members_.size() ? ",\n" : "\n");
+        }
+        os << std::string(indent, ' ') << '}';
+        return;
+      }
+    }
+  }
+
+  /// YAML: objects in block style, arrays in flow style (they never hold objects here), strings double-quoted with
+  /// JSON escapes (a subset of YAML's double-quoted escapes), numbers as in JSON but with .inf / -.inf / .nan.
+  void writeYamlScalarOrFlow(std::ostream& os) const {
+    switch (kind_) {
+      case Kind::Null:
+        os << "null";
+        return;
+      case Kind::Bool:
+        os << (bool_ ? "true" : "false");
+        return;
+      case Kind::Number:
+        if (std::isnan(number_)) {
+          os << ".nan";
+        } else if (std::isinf(number_)) {
+          os << (number_ > 0 ? ".inf" : "-.inf");
+        } else {
+          os << jsonNumber(number_);
+        }
+        return;
+      case Kind::Integer:
+        os << integer_;
+        return;
+      case Kind::String:
+        os << jsonString(string_);
+        return;
+      case Kind::Array:
+        os << '[';
+        for (std::size_t i = 0; i < items_.size(); ++i) {
+          if (i > 0) os << ", ";
+          items_[i].writeYamlScalarOrFlow(os);
+        }
+        os << ']';
+        return;
+      case Kind::Object:
+        os << "{}";  // only reached for empty objects
+        return;
+    }
+  }
+
+  void writeYamlMembers(std::ostream& os, int indent) const {
+    for (const auto& m : members_) {
+      os << std::string(indent, ' ') << yamlKey(m.first) << ':';
+      if (m.second.kind_ == Kind::Object && !m.second.members_.empty()) {
+        os << '\n';
+        m.second.writeYamlMembers(os, indent + 2);
+      } else if (m.second.kind_ == Kind::Array && !m.second.flat()) {
+        os << '\n';
+        for (const Node& item : m.second.items_) {
+          os << std::string(indent + 2, ' ') << "-";
+          if (item.kind_ == Kind::Object && !item.members_.empty()) {
+            os << '\n';
+            item.writeYamlMembers(os, indent + 4);
+          } else {
+            os << ' ';
+            item.writeYamlScalarOrFlow(os);
+            os << '\n';
+          }
+        }
+      } else {
+        os << ' ';
+        m.second.writeYamlScalarOrFlow(os);
+        os << '\n';
+      }
+    }
+  }
+
+ private:
+  explicit Node(Kind k) : kind_(k) {}
+  Kind kind_ = Kind::Null;
+  bool bool_ = false;
+  double number_ = 0.0;
+  long long integer_ = 0;
+  std::string string_;
+  std::vector<Node> items_;
+  std::vector<std::pair<std::string, Node>> members_;
+};
+
+Node numbers(const DVec& v) {
+  Node a = Node::array();
+  for (int i = 0; i < v.size(); ++i) a.push(Node::number(v[i]));
+  return a;
+}
+
+Node numbersOrNull(const DVec& v) { return v.size() > 0 ? numbers(v) : Node(); }
+
+Node box(const IVec& b) {
+  Node a = Node::array();
+  for (int i = 0; i < b.size(); ++i) {
+    if (b[i].isEmpty()) {
+      a.push(Node());
+    } else {
+      a.push(Node::array().push(Node::number(b[i].lower())).push(Node::number(b[i].upper())));
+    }
+  }
+  return a;
+}
+
+Node strings(const std::vector<std::string>& v) {
+  Node a = Node::array();
+  for (const auto& s : v) a.push(Node::string(s));
+  return a;
+}
+
+Node count(std::size_t n) { return Node::integer(static_cast<long long>(n)); }
+
+/// The pose of the witness: the midpoints of its enclosure (exact for a workspace, whose poses are the variables).
+DVec witnessPose(const verify::VerifierResult& r) {
+  if (r.witness_pose.size() == 0) return r.witness;
+  DVec p(r.witness_pose.size());
+  for (int i = 0; i < r.witness_pose.size(); ++i) p[i] = r.witness_pose[i].mid();
+  return p;
+}
+
+bool hasWitness(const verify::VerifierResult& r) {
+  return r.verdict == verify::Verdict::Unsafe && r.witness_component >= 0 && r.witness.size() > 0;
+}
+
+Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o, const RunInfo& info) {
+  Node d = Node::object();
+  d.set("tool", Node::string(info.tool));
+  d.set("exit_code", info.exit_code >= 0 ? Node::integer(info.exit_code) : Node());
+  d.set("verdict", Node::string(verify::toString(r.verdict)));
+  d.set("reason", Node::string(verify::toString(r.reason)));
+  d.set("message", Node::string(r.message));
+  d.set("mode", Node::string(modeName(o.mode)));
+  d.set("robot", Node::string(info.robot));
+  d.set("workspace", Node::string(info.workspace));
+  d.set("workspace_region", Node::string(info.workspace_region));
+  d.set("workspace_box", box(info.workspace_box));
+  d.set("variables", strings(info.variables));
+  d.set("components", strings(info.components));
+  d.set("units", strings(info.units));
+  d.set("method", Node::string(o.method));
+  d.set("bisection", Node::string(bisectionName(o.bisection)));
+  d.set("thresholds", numbersOrNull(o.thresholds));
+  d.set("alpha", o.mode == verify::Mode::MaxError ? Node::number(o.alpha) : Node());
+  d.set("alpha_relative", o.mode == verify::Mode::MaxError ? Node::boolean(o.alpha_relative) : Node());
+  d.set("anchor_uncertainty", Node::number(info.anchor_uncertainty));
+  d.set("max_boxes", count(o.max_boxes));
+  d.set("time_limit", Node::number(o.time_limit_s));
+  d.set("min_width", numbersOrNull(o.min_width));
+
+  const bool witness = hasWitness(r);
+  d.set("witness", witness ? numbers(witnessPose(r)) : Node());
+  d.set("witness_variables", witness ? numbers(r.witness) : Node());
+  d.set("witness_component", witness ? Node::integer(r.witness_component) : Node());
+  const bool named = witness && r.witness_component < static_cast<int>(info.components.size());
+  d.set("witness_component_name", named ? Node::string(info.components[r.witness_component]) : Node());
+  d.set("witness_lower_bound", witness ? Node::number(r.witness_lower_bound) : Node());
+  d.set("witness_error_lower", witness ? numbersOrNull(r.witness_error_lower) : Node());
+
+  if (o.mode == verify::Mode::MaxError && r.max_lower.size() > 0) {
+    Node m = Node::object();
+    m.set("lower", numbers(r.max_lower));
+    m.set("upper", numbers(r.max_upper));
+    m.set("converged", Node::boolean(r.converged));
+    Node argmax = Node::array();
+    for (const DVec& a : r.max_argmax) argmax.push(numbersOrNull(a));
+    m.set("argmax", argmax);
+    d.set("max_error", m);
+  } else {
+    d.set("max_error", Node());
+  }
+
+  Node s = Node::object();
+  s.set("boxes", count(r.stats.boxes));
+  s.set("seconds", Node::number(r.stats.seconds));
+  s.set("max_depth", Node::integer(r.stats.max_depth));
+  s.set("safe_fraction", Node::number(r.stats.safe_fraction));
+  s.set("unsafe_fraction", Node::number(r.stats.unsafe_fraction));
+  s.set("undecided_fraction", Node::number(r.stats.undecided_fraction));
+  s.set("outside_fraction", Node::number(r.stats.outside_fraction));
+  s.set("threads", Node::integer(r.stats.threads));
+  d.set("stats", s);
+
+  Node u = Node::object();
+  const std::size_t listed = std::min(r.undecided_boxes.size(), info.max_listed_boxes);
+  u.set("count", count(r.undecided_box_count));
+  u.set("recorded", count(r.undecided_boxes.size()));
+  u.set("listed", count(listed));
+  Node boxes = Node::array(), upper = Node::array();
+  for (std::size_t i = 0; i < listed; ++i) {
+    boxes.push(box(r.undecided_boxes[i].box));
+    upper.push(numbers(r.undecided_boxes[i].upper));
+  }
+  u.set("boxes", boxes);
+  u.set("upper", upper);
+  d.set("undecided_boxes", u);
+  return d;
+}
+
+// ---- human summary -----------------------------------------------------------------------------------------------
+std::string num(double x, int digits = 6) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+std::string percent(double fraction) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g%%", 100.0 * fraction);
+  return buf;
+}
+
+std::string unitOf(const RunInfo& info, int k) {
+  return k >= 0 && k < static_cast<int>(info.units.size()) ? info.units[k] : "";
+}
+
+std::string componentOf(const RunInfo& info, int k) {
+  return k >= 0 && k < static_cast<int>(info.components.size()) ? info.components[k] : "c" + std::to_string(k);
+}
+
+/// "x [m]" -> ("x", "m").
+std::pair<std::string, std::string> splitName(const std::string& name) {
+  const auto open = name.find(" [");
+  if (open == std::string::npos || name.back() != ']') return {name, ""};
+  return {name.substr(0, open), name.substr(open + 2, name.size() - open - 3)};
+}
+
+std::string variables(const RunInfo& info, const DVec& t) {
+  std::ostringstream os;
+  for (int i = 0; i < t.size(); ++i) {
+    const auto nu =
+        splitName(i < static_cast<int>(info.variables.size()) ? info.variables[i] : "t" + std::to_string(i));
+    os << (i > 0 ? ", " : "") << nu.first << " = " << num(t[i], 9) << (nu.second.empty() ? "" : " " + nu.second);
+  }
+  return os.str();
+}
+
+std::string boxText(const RunInfo& info, const IVec& b) {
+  std::ostringstream os;
+  for (int i = 0; i < b.size(); ++i) {
+    const auto nu =
+        splitName(i < static_cast<int>(info.variables.size()) ? info.variables[i] : "t" + std::to_string(i));
+    os << (i > 0 ? ", " : "") << nu.first << " [" << num(b[i].lower()) << ", " << num(b[i].upper()) << "]"
+       << (nu.second.empty() ? "" : " " + nu.second);
+  }
+  return os.str();
+}
+
+std::string pad(const std::string& s, std::size_t w) {
+  return s.size() >= w ? s + " " : s + std::string(w - s.size(), ' ');
+}
+
+}  // namespace
+
+std::string modeName(verify::Mode mode) { return mode == verify::Mode::MaxError ? "max-error" : "verify"; }
+
+std::string bisectionName(verify::Bisection bisection) {
+  switch (bisection) {
+    case verify::Bisection::Smear:
+      return "smear";
+    case verify::Bisection::LargestScaledWidth:
+      return "width";
+    case verify::Bisection::RoundRobin:
+      return "round-robin";
+  }
+  return "smear";
+}
+
+std::string jsonNumber(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[64];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+    if (std::strtod(buf, nullptr) == x) break;
+  }
+  return buf;
+}
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (c < 0x20 || c == 0x7f) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += ch;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string toJson(const verify::VerifierResult& result, const verify::VerifierOptions& options, const RunInfo& info) {
+  std::ostringstream os;
+  document(result, options, info).writeJson(os, 0);
+  os << '\n';
+  return os.str();
+}
+
+std::string toYaml(const verify::VerifierResult& result, const verify::VerifierOptions& options, const RunInfo& info) {
+  std::ostringstream os;
+  os << "# " << info.tool << " result (units: m and rad; see components / units)\n";
+  document(result, options, info).writeYamlMembers(os, 0);
+  return os.str();
+}
+
+void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verify::VerifierOptions& o,
+                  const RunInfo& info) {
+  const int n = static_cast<int>(
+      std::max<Eigen::Index>({o.thresholds.size(), r.max_lower.size(), r.witness_error_lower.size(), Eigen::Index(0)}));
+  os << "verdict:   " << verify::toString(r.verdict);
+  if (r.verdict == verify::Verdict::Undecided) os << " (" << verify::toString(r.reason) << ")";
+  os << "\nmessage:   " << r.message << "\n";
+  os << "robot:     " << info.robot << " (anchor uncertainty " << num(info.anchor_uncertainty) << " m)\n";
+  os << "workspace: " << info.workspace << " (" << info.workspace_region << "): " << boxText(info, info.workspace_box)
+     << "\n";
+  os << "method:    " << o.method << ", bisection " << bisectionName(o.bisection) << ", mode " << modeName(o.mode);
+  if (o.mode == verify::Mode::MaxError) os << ", alpha " << num(o.alpha) << (o.alpha_relative ? " (relative)" : "");
+  os << "\n";
+
+  if (hasWitness(r)) {
+    const int k = r.witness_component;
+    os << "witness:   " << variables(info, witnessPose(r)) << "\n";
+    os << "           " << componentOf(info, k) << " worst error >= " << num(r.witness_lower_bound, 9) << " "
+       << unitOf(info, k);
+    if (k < o.thresholds.size()) os << " > threshold " << num(o.thresholds[k]) << " " << unitOf(info, k);
+    os << " (certified)\n";
+  }
+
+  if (n > 0) {
+    const bool maxError = r.max_lower.size() == n;
+    os << "\n  " << pad("component", 11) << pad("unit", 6);
+    if (maxError) os << pad("max >= lower", 18) << pad("max <= upper", 18) << pad("gap", 10);
+    if (o.thresholds.size() == n) os << pad("threshold", 14);
+    if (!maxError && r.witness_error_lower.size() == n) os << "at witness >=";
+    os << "\n";
+    for (int k = 0; k < n; ++k) {
+      os << "  " << pad(componentOf(info, k), 11) << pad(unitOf(info, k), 6);
+      if (maxError) {
+        const double gap = r.max_upper[k] - r.max_lower[k];
+        os << pad(num(r.max_lower[k], 10), 18) << pad(num(r.max_upper[k], 10), 18)
+           << pad(r.max_lower[k] > 0 && std::isfinite(gap) ? percent(gap / r.max_lower[k]) : num(gap, 3), 10);
+      }
+      if (o.thresholds.size() == n) os << pad(num(o.thresholds[k]), 14);
+      if (!maxError && r.witness_error_lower.size() == n) os << num(r.witness_error_lower[k], 10);
+      os << "\n";
+    }
+    if (maxError) os << "  (max: the largest worst-case error over the workspace; certified bracket [lower, upper])\n";
+    os << "\n";
+  }
+  if (r.verdict == verify::Verdict::Safe && o.mode == verify::Mode::Verify) {
+    os << "every component is certified below its threshold at every pose of the workspace\n";
+  }
+
+  const auto& s = r.stats;
+  os << "stats:     " << s.boxes << " boxes in " << num(s.seconds, 3) << " s on " << s.threads << " thread"
+     << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth << "\n";
+  os << "volume:    " << percent(s.safe_fraction) << (o.mode == verify::Mode::MaxError ? " settled, " : " safe, ")
+     << percent(s.unsafe_fraction) << " unsafe, " << percent(s.undecided_fraction) << " undecided, "
+     << percent(s.outside_fraction) << " outside the region\n";
+  os << "undecided: " << r.undecided_box_count << " box" << (r.undecided_box_count == 1 ? "" : "es") << "\n";
+  const std::size_t shown = std::min<std::size_t>(r.undecided_boxes.size(), 3);
+  for (std::size_t i = 0; i < shown; ++i) os << "           " << boxText(info, r.undecided_boxes[i].box) << "\n";
+  if (r.undecided_box_count > shown) {
+    os << "           ... (the reports list the first " << std::min(r.undecided_boxes.size(), info.max_listed_boxes)
+       << ")\n";
+  }
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::cout << text << std::flush;
+    if (!std::cout) throw InvalidArgument("standard output: write failed");
+    return;
+  }
+  std::ofstream f(path, std::ios::out | std::ios::trunc);
+  if (!f) throw InvalidArgument(path + ": cannot open for writing");
+  f << text;
+  f.close();
+  if (!f) throw InvalidArgument(path + ": write failed");
+}
+
+}  // namespace io
+}  // namespace pkm_accuracy

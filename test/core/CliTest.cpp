@@ -1,0 +1,651 @@
+// End-to-end tests of the command-line tool pkm_verify (PKM_PVERIFY_EXE): exit codes, the JSON / YAML reports
+// (parsed here by a small strict JSON parser and by yaml-cpp) and the soundness of what they claim, checked against
+// double-precision sampling of the worst error with the model itself (GoughPlatform::worstErrorAt).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pkm_accuracy/core/model/GoughPlatform.hpp"
+#include "pkm_accuracy/io/ResultWriter.hpp"
+#include "pkm_accuracy/io/RobotFile.hpp"
+
+namespace {
+
+using pkm_accuracy::DVec;
+
+const std::string kExe = PKM_PVERIFY_EXE;
+const std::string kSource = PKM_SOURCE_DIR;
+const std::string kRef6 = kSource + "/config/ref6.yaml";
+const std::string kTinyRobot = kSource + "/config/tiny_fixed_orientation.yaml";
+
+// ---- a small strict JSON parser (RFC 8259: no inf / nan / trailing commas / comments) -----------------------------
+struct Json {
+  enum class Type { Null, Bool, Number, String, Array, Object };
+  Type type = Type::Null;
+  bool boolean = false;
+  double number = 0.0;
+  std::string string;
+  std::vector<Json> array;
+  std::map<std::string, Json> object;
+
+  bool isNull() const { return type == Type::Null; }
+  bool has(const std::string& key) const { return type == Type::Object && object.count(key) > 0; }
+  const Json& operator[](const std::string& key) const {
+    if (type != Type::Object) throw std::runtime_error("not an object (key " + key + ")");
+    const auto it = object.find(key);
+    if (it == object.end()) throw std::runtime_error("missing key " + key);
+    return it->second;
+  }
+  const Json& operator[](std::size_t i) const {
+    if (type != Type::Array || i >= array.size()) throw std::runtime_error("bad array index");
+    return array[i];
+  }
+  std::size_t size() const { return type == Type::Array ? array.size() : object.size(); }
+  double num() const {
+    if (type != Type::Number) throw std::runtime_error("not a number");
+    return number;
+  }
+  const std::string& str() const {
+    if (type != Type::String) throw std::runtime_error("not a string");
+    return string;
+  }
+  std::vector<double> numbers() const {
+    std::vector<double> v;
+    for (std::size_t i = 0; i < size(); ++i) v.push_back((*this)[i].num());
+    return v;
+  }
+};
+
+class JsonParser {
+ public:
+  explicit JsonParser(const std::string& text) : s_(text) {}
+  Json parse() {
+    Json v = value();
+    skip();
+    if (i_ != s_.size()) fail("trailing characters");
+    return v;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
+  }
+  void skip() {
+    while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\n' || s_[i_] == '\r' || s_[i_] == '\t')) ++i_;
+  }
+  bool literal(const char* word) {
+    const std::string w(word);
+    if (s_.compare(i_, w.size(), w) != 0) return false;
+    i_ += w.size();
+    return true;
+  }
+  Json value() {
+    skip();
+    if (i_ >= s_.size()) fail("unexpected end");
+    Json v;
+    const char c = s_[i_];
+    if (c == '{') {
+      v.type = Json::Type::Object;
+      ++i_;
+      skip();
+      if (i_ < s_.size() && s_[i_] == '}') {
+        ++i_;
+        return v;
+      }
+      while (true) {
+        skip();
+        if (i_ >= s_.size() || s_[i_] != '"') fail("expected a key");
+        const std::string key = stringLiteral();
+        skip();
+        if (i_ >= s_.size() || s_[i_] != ':') fail("expected ':'");
+        ++i_;
+        if (v.object.count(key)) fail("duplicate key " + key);
+        v.object[key] = value();
+        skip();
+        if (i_ < s_.size() && s_[i_] == ',') {
+          ++i_;
+          continue;
+        }
+        if (i_ < s_.size() && s_[i_] == '}') {
+          ++i_;
+          return v;
+        }
+        fail("expected ',' or '}'");
+      }
+    }
+    if (c == '[') {
+      v.type = Json::Type::Array;
+      ++i_;
+      skip();
+      if (i_ < s_.size() && s_[i_] == ']') {
+        ++i_;
+        return v;
+      }
+      while (true) {
+        v.array.push_back(value());
+        skip();
+        if (i_ < s_.size() && s_[i_] == ',') {
+          ++i_;
+          continue;
+        }
+        if (i_ < s_.size() && s_[i_] == ']') {
+          ++i_;
+          return v;
+        }
+        fail("expected ',' or ']'");
+      }
+    }
+    if (c == '"') {
+      v.type = Json::Type::String;
+      v.string = stringLiteral();
+      return v;
+    }
+    if (literal("true")) {
+      v.type = Json::Type::Bool;
+      v.boolean = true;
+      return v;
+    }
+    if (literal("false")) {
+      v.type = Json::Type::Bool;
+      return v;
+    }
+    if (literal("null")) return v;
+    // -?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?
+    const std::size_t start = i_;
+    auto digits = [&] {
+      const std::size_t d = i_;
+      while (i_ < s_.size() && s_[i_] >= '0' && s_[i_] <= '9') ++i_;
+      if (i_ == d) fail("expected a digit");
+    };
+    if (s_[i_] == '-') ++i_;
+    if (i_ < s_.size() && s_[i_] == '0') {
+      ++i_;
+    } else {
+      digits();
+    }
+    if (i_ < s_.size() && s_[i_] == '.') {
+      ++i_;
+      digits();
+    }
+    if (i_ < s_.size() && (s_[i_] == 'e' || s_[i_] == 'E')) {
+      ++i_;
+      if (i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-')) ++i_;
+      digits();
+    }
+    v.type = Json::Type::Number;
+    v.number = std::strtod(s_.substr(start, i_ - start).c_str(), nullptr);
+    return v;
+  }
+  std::string stringLiteral() {
+    ++i_;  // opening quote
+    std::string out;
+    while (true) {
+      if (i_ >= s_.size()) fail("unterminated string");
+      const char c = s_[i_++];
+      if (c == '"') return out;
+      if (static_cast<unsigned char>(c) < 0x20) fail("control character in a string");
+      if (c != '\\') {
+        out += c;
+        continue;
+      }
+      if (i_ >= s_.size()) fail("unterminated escape");
+      const char e = s_[i_++];
+      switch (e) {
+        case '"':
+        case '\\':
+        case '/':
+          out += e;
+          break;
+        case 'b':
+          out += '\b';
+          break;
+        case 'f':
+          out += '\f';
+          break;
+        case 'n':
+          out += '\n';
+          break;
+        case 'r':
+          out += '\r';
+          break;
+        case 't':
+          out += '\t';
+          break;
+        case 'u': {
+          if (i_ + 4 > s_.size()) fail("short \\u escape");
+          const unsigned code = static_cast<unsigned>(std::stoul(s_.substr(i_, 4), nullptr, 16));
+          i_ += 4;
+          if (code < 0x80) {
+            out += static_cast<char>(code);
+          } else {
+            out += '?';  // not needed by these tests
+          }
+          break;
+        }
+        default:
+          fail("bad escape");
+      }
+    }
+  }
+
+  const std::string& s_;
+  std::size_t i_ = 0;
+};
+
+Json parseJson(const std::string& text) { return JsonParser(text).parse(); }
+
+// ---- running the tool ----------------------------------------------------------------------------------------------
+std::string readFile(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string join(const std::vector<double>& v) {
+  std::string s;
+  for (double x : v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    s += (s.empty() ? "" : ",") + std::string(buf);
+  }
+  return s;
+}
+
+struct RunResult {
+  int code = -1;
+  std::string out, err;
+  double seconds = 0.0;
+};
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char dir[] = "/tmp/pkm_cli_test_XXXXXX";
+    ASSERT_NE(::mkdtemp(dir), nullptr);
+    dir_ = dir;
+    tiny_ = writeWorkspace("tiny.yaml", {-0.01, 0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -0.01, 0.01});
+  }
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+
+  /// A workspace file with ranges x, y, z, roll, pitch, yaw (lo, hi pairs).
+  std::string writeWorkspace(const std::string& name, const std::array<double, 12>& r) const {
+    std::ofstream f(path(name));
+    const char* keys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+    char line[128];
+    for (int i = 0; i < 6; ++i) {
+      std::snprintf(line, sizeof line, "%s: [%.17g, %.17g]\n", keys[i], r[2 * i], r[2 * i + 1]);
+      f << line;
+    }
+    return path(name);
+  }
+
+  RunResult run(const std::vector<std::string>& args) const {
+    std::string cmd = "cd " + quote(kSource) + " && " + quote(kExe);
+    for (const auto& a : args) cmd += " " + quote(a);
+    cmd += " > " + quote(path("stdout.txt")) + " 2> " + quote(path("stderr.txt")) + " < /dev/null";
+    RunResult r;
+    const auto start = std::chrono::steady_clock::now();
+    const int status = std::system(cmd.c_str());
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readFile(path("stdout.txt"));
+    r.err = readFile(path("stderr.txt"));
+    return r;
+  }
+
+  Json runJson(std::vector<std::string> args, int expectedCode) const {
+    args.push_back("--json");
+    args.push_back(path("out.json"));
+    const RunResult r = run(args);
+    EXPECT_EQ(r.code, expectedCode) << "stdout:\n" << r.out << "stderr:\n" << r.err;
+    EXPECT_LT(r.seconds, 20.0);
+    return parseJson(readFile(path("out.json")));
+  }
+
+  std::string dir_, tiny_;
+};
+
+// ---- the oracle: double-precision worst error on a grid ------------------------------------------------------------
+pkm_accuracy::model::GoughPlatform ref6Model() {
+  return pkm_accuracy::model::GoughPlatform(pkm_accuracy::io::loadRobotFile(kRef6).geometry);
+}
+
+std::vector<double> sampledMax(const pkm_accuracy::model::RobotModel& model, const std::array<double, 12>& r, int g) {
+  std::vector<double> best(6, 0.0);
+  long total = 1;
+  for (int i = 0; i < 6; ++i) total *= g;
+  for (long idx = 0; idx < total; ++idx) {
+    DVec pose(6);
+    long rest = idx;
+    for (int i = 0; i < 6; ++i) {
+      const int j = static_cast<int>(rest % g);
+      rest /= g;
+      pose[i] = r[2 * i] + (r[2 * i + 1] - r[2 * i]) * j / (g - 1);
+    }
+    const DVec f = model.worstErrorAt(pose);
+    for (int k = 0; k < 6; ++k) best[k] = std::max(best[k], f[k]);
+  }
+  return best;
+}
+
+const std::array<double, 12> kTiny = {-0.01, 0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -0.01, 0.01};
+
+std::vector<double> scaled(const std::vector<double>& v, double s) {
+  std::vector<double> out;
+  for (double x : v) out.push_back(x * s);
+  return out;
+}
+
+void expectInside(const std::vector<double>& p, const std::array<double, 12>& r) {
+  ASSERT_EQ(p.size(), 6u);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_GE(p[i], r[2 * i]) << "coordinate " << i;
+    EXPECT_LE(p[i], r[2 * i + 1]) << "coordinate " << i;
+  }
+}
+
+// ---- tests ---------------------------------------------------------------------------------------------------------
+TEST_F(CliTest, HelpDocumentsUsageAndExitCodes) {
+  const RunResult r = run({"--help"});
+  EXPECT_EQ(r.code, 0);
+  for (const char* s : {"--robot", "--workspace", "--thresholds", "--mode", "--alpha", "--uncertainty", "--method",
+                        "--threads", "--time-limit", "--json", "--yaml", "Exit codes", "0  SAFE", "1  UNSAFE",
+                        "2  UNDECIDED", "3  bad input", "4  internal error"}) {
+    EXPECT_NE(r.out.find(s), std::string::npos) << s;
+  }
+  EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+TEST_F(CliTest, GenerousThresholdsOnTinyBoxAreSafe) {
+  const auto model = ref6Model();
+  const auto worst = sampledMax(model, kTiny, 4);
+  const auto thresholds = scaled(worst, 10.0);
+  for (const char* threads : {"1", "2"}) {
+    const Json j =
+        runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--threads", threads}, 0);
+    EXPECT_EQ(j["verdict"].str(), "SAFE");
+    EXPECT_EQ(j["reason"].str(), "none");
+    EXPECT_EQ(j["mode"].str(), "verify");
+    EXPECT_EQ(j["workspace"].str(), tiny_);
+    EXPECT_EQ(j["robot"].str(), kRef6);
+    EXPECT_EQ(j["method"].str(), "mean_value");
+    EXPECT_EQ(j["thresholds"].numbers(), thresholds);  // exact round trip of every double
+    EXPECT_TRUE(j["witness"].isNull());
+    EXPECT_TRUE(j["max_error"].isNull());
+    EXPECT_GE(j["stats"]["boxes"].num(), 1.0);
+    EXPECT_EQ(j["stats"]["threads"].num(), std::atof(threads));
+    EXPECT_DOUBLE_EQ(j["stats"]["safe_fraction"].num(), 1.0);
+    EXPECT_EQ(j["undecided_boxes"]["count"].num(), 0.0);
+    EXPECT_EQ(j["undecided_boxes"]["boxes"].size(), 0u);
+    EXPECT_EQ(j["exit_code"].num(), 0.0);
+  }
+  // The human summary: verdict, units, stats; nothing on stderr when it is not a terminal (no progress garbage).
+  const RunResult r = run({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds)});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("verdict:   SAFE"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" rad "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("boxes in"), std::string::npos) << r.out;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+TEST_F(CliTest, HalvedThresholdsGiveARealWitness) {
+  const auto model = ref6Model();
+  const auto thresholds = scaled(sampledMax(model, kTiny, 4), 0.5);
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--threads", "1",
+                          "--yaml", path("out.yaml")},
+                         1);
+  EXPECT_EQ(j["verdict"].str(), "UNSAFE");
+  const auto witness = j["witness"].numbers();
+  expectInside(witness, kTiny);
+  const int k = static_cast<int>(j["witness_component"].num());
+  ASSERT_GE(k, 0);
+  ASSERT_LT(k, 6);
+  const char* names[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+  EXPECT_EQ(j["witness_component_name"].str(), names[k]);
+  const double certified = j["witness_lower_bound"].num();
+  EXPECT_GT(certified, thresholds[k]);
+  DVec pose(6);
+  for (int i = 0; i < 6; ++i) pose[i] = witness[i];
+  const DVec f = model.worstErrorAt(pose);
+  EXPECT_GT(f[k], thresholds[k]) << "the witness must really violate the threshold of its component";
+  EXPECT_LE(certified, f[k] * (1.0 + 1e-9));
+  EXPECT_EQ(j["witness_error_lower"].size(), 6u);
+
+  // The YAML report says the same (same numbers, bit for bit).
+  const YAML::Node y = YAML::LoadFile(path("out.yaml"));
+  EXPECT_EQ(y["verdict"].as<std::string>(), "UNSAFE");
+  EXPECT_EQ(y["exit_code"].as<int>(), 1);
+  EXPECT_EQ(y["witness_component"].as<int>(), k);
+  EXPECT_EQ(y["witness_lower_bound"].as<double>(), certified);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(y["witness"][i].as<double>(), witness[i]);
+}
+
+TEST_F(CliTest, MaxErrorBracketsTheSampledMaximum) {
+  // A smaller box than kTiny: max-error mode to alpha = 0.05 on kTiny takes ~1e6 boxes (about a minute).
+  const std::array<double, 12> box = {-0.003, 0.003, -0.003, 0.003, 0.47,   0.475,
+                                      -0.003, 0.003, -0.003, 0.003, -0.003, 0.003};
+  const std::string ws = writeWorkspace("small.yaml", box);
+  const auto model = ref6Model();
+  const auto sampled = sampledMax(model, box, 4);
+  const double alpha = 0.05;
+  const Json j = runJson({"--robot", kRef6, "--workspace", ws, "--mode", "max-error", "--alpha", "0.05", "--threads",
+                          "1", "--yaml", path("out.yaml")},
+                         0);
+  EXPECT_EQ(j["mode"].str(), "max-error");
+  EXPECT_EQ(j["verdict"].str(), "UNDECIDED");  // no thresholds: nothing to decide, the bracket is the answer
+  EXPECT_EQ(j["reason"].str(), "no_thresholds");
+  EXPECT_TRUE(j["max_error"]["converged"].boolean);
+  EXPECT_EQ(j["alpha"].num(), alpha);
+  EXPECT_TRUE(j["thresholds"].isNull());
+  const auto lower = j["max_error"]["lower"].numbers();
+  const auto upper = j["max_error"]["upper"].numbers();
+  ASSERT_EQ(lower.size(), 6u);
+  ASSERT_EQ(upper.size(), 6u);
+  const YAML::Node y = YAML::LoadFile(path("out.yaml"));
+  for (int k = 0; k < 6; ++k) {
+    SCOPED_TRACE("component " + std::to_string(k));
+    EXPECT_GT(lower[k], 0.0);
+    EXPECT_LE(lower[k], upper[k]);
+    EXPECT_LE(sampled[k], upper[k] * (1.0 + 1e-12)) << "upper must bound every sampled value";
+    EXPECT_LE(upper[k] - lower[k], alpha * lower[k] * (1.0 + 1e-9) + 1e-300);
+    EXPECT_GE(lower[k], sampled[k] / (1.0 + alpha) * (1.0 - 1e-9));  // implied by the two checks above
+    // lower is attained: the reported argmax really has an error of at least lower (up to rounding).
+    const auto argmax = j["max_error"]["argmax"][k].numbers();
+    expectInside(argmax, box);
+    DVec pose(6);
+    for (int i = 0; i < 6; ++i) pose[i] = argmax[i];
+    EXPECT_GE(model.worstErrorAt(pose)[k], lower[k] * (1.0 - 1e-9));
+    EXPECT_EQ(y["max_error"]["lower"][k].as<double>(), lower[k]);
+    EXPECT_EQ(y["max_error"]["upper"][k].as<double>(), upper[k]);
+  }
+}
+
+TEST_F(CliTest, MaxErrorOutOfBudgetExitsUndecidedWithNulls) {
+  const Json j = runJson(
+      {"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--max-boxes", "20", "--threads", "1"}, 2);
+  EXPECT_EQ(j["verdict"].str(), "UNDECIDED");
+  EXPECT_EQ(j["reason"].str(), "box_budget");
+  EXPECT_FALSE(j["max_error"]["converged"].boolean);
+  EXPECT_GE(j["undecided_boxes"]["count"].num(), 1.0);
+  // Unbounded uppers (boxes never looked at) are null, never a bare inf.
+  bool sawNull = false;
+  for (const auto& u : j["undecided_boxes"]["upper"].array)
+    for (const auto& x : u.array) sawNull = sawNull || x.isNull();
+  EXPECT_TRUE(sawNull);
+}
+
+TEST_F(CliTest, UndecidedBoxesAreListedUpToOneHundred) {
+  // Boxes may not be split below these widths, so most of them stay undecided (precision limit).
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.001",
+                          "--min-width", "0.01,0.01,0.005,0.005,0.005,0.005", "--threads", "1"},
+                         2);
+  EXPECT_EQ(j["reason"].str(), "precision_limit");
+  const Json& u = j["undecided_boxes"];
+  EXPECT_GT(u["count"].num(), 100.0);
+  EXPECT_EQ(u["listed"].num(), 100.0);
+  ASSERT_EQ(u["boxes"].size(), 100u);
+  ASSERT_EQ(u["upper"].size(), 100u);
+  for (const auto& b : u["boxes"].array) {
+    ASSERT_EQ(b.size(), 6u);
+    for (int i = 0; i < 6; ++i) {
+      const auto lohi = b[i].numbers();
+      ASSERT_EQ(lohi.size(), 2u);
+      EXPECT_LE(lohi[0], lohi[1]);
+      EXPECT_GE(lohi[0], kTiny[2 * i]);
+      EXPECT_LE(lohi[1], kTiny[2 * i + 1]);
+    }
+  }
+  EXPECT_EQ(j["min_width"].numbers(), (std::vector<double>{0.01, 0.01, 0.005, 0.005, 0.005, 0.005}));
+}
+
+TEST_F(CliTest, Paper40degIsUnsafeQuickly) {
+  const std::vector<double> thresholds = {1e-4, 1e-4, 1e-4, 1e-3, 1e-3, 1e-3};
+  const Json j = runJson({"--robot", kRef6, "--workspace", "paper_40deg", "--thresholds",
+                          "1e-4,1e-4,1e-4,1e-3,1e-3,1e-3", "--threads", "2"},
+                         1);
+  EXPECT_EQ(j["verdict"].str(), "UNSAFE");
+  EXPECT_EQ(j["workspace"].str(), "paper_40deg");
+  EXPECT_LT(j["stats"]["seconds"].num(), 5.0);
+  const double a = 0.6981317007977318;
+  const auto witness = j["witness"].numbers();
+  expectInside(witness, {-0.15, 0.15, -0.15, 0.15, 0.45, 0.5, -a, a, -a, a, -a, a});
+  const int k = static_cast<int>(j["witness_component"].num());
+  DVec pose(6);
+  for (int i = 0; i < 6; ++i) pose[i] = witness[i];
+  const DVec f = ref6Model().worstErrorAt(pose);  // may be inf near a singularity: still a violation
+  EXPECT_GT(f[k], thresholds[k]);
+  EXPECT_GT(j["witness_lower_bound"].num(), thresholds[k]);
+}
+
+TEST_F(CliTest, DefaultWorkspaceAndListing) {
+  // ref6 has two workspaces: the default is `paper` (tiny thresholds: a witness comes from the first samples).
+  Json j = runJson({"--robot", kRef6, "--thresholds", "1e-9,1e-9,1e-9,1e-9,1e-9,1e-9", "--threads", "1"}, 1);
+  EXPECT_EQ(j["workspace"].str(), "paper");
+  // tiny_fixed_orientation has one: it is the default. Max-error mode, converged: exit 0.
+  j = runJson({"--robot", kTinyRobot, "--mode", "max-error", "--alpha", "0.05", "--threads", "1"}, 0);
+  EXPECT_EQ(j["workspace"].str(), "fixed_orientation");
+  EXPECT_TRUE(j["max_error"]["converged"].boolean);
+
+  const RunResult r = run({"--robot", kRef6, "--list-workspaces"});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("paper "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("paper_40deg "), std::string::npos) << r.out;
+}
+
+TEST_F(CliTest, JsonOnStdoutAndUncertainty) {
+  const auto thresholds = scaled(sampledMax(ref6Model(), kTiny, 3), 10.0);
+  const RunResult r = run({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty",
+                           "1e-5", "--method", "precond", "--bisection", "round-robin", "--json", "-"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  const Json j = parseJson(r.out);  // stdout holds the JSON only (the summary went to stderr)
+  EXPECT_EQ(j["verdict"].str(), "SAFE");
+  EXPECT_EQ(j["anchor_uncertainty"].num(), 1e-5);
+  EXPECT_EQ(j["method"].str(), "precond");
+  EXPECT_EQ(j["bisection"].str(), "round-robin");
+  EXPECT_NE(r.err.find("verdict:   SAFE"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
+  const std::string inverted =
+      writeWorkspace("inverted.yaml", {0.01, -0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -0.01, 0.01});
+  // platform_anchors[1] moved onto platform_anchors[0].
+  std::string badRobot = readFile(kRef6);
+  const std::string anchor1 = "[ 0.030,    0.073,   0.0]";
+  ASSERT_NE(badRobot.find(anchor1), std::string::npos);
+  badRobot.replace(badRobot.find(anchor1), anchor1.size(), "[-0.030,    0.073,   0.0]");
+  {
+    std::ofstream f(path("coincident.yaml"));
+    f << badRobot;
+  }
+  const std::string t6 = "1e-4,1e-4,1e-4,1e-3,1e-3,1e-3";
+  struct Case {
+    std::vector<std::string> args;
+    std::vector<std::string> mentions;
+  };
+  const std::vector<Case> cases = {
+      {{"--thresholds", t6}, {"--robot", "required"}},
+      {{"--robot", path("no_such_robot.yaml"), "--thresholds", t6}, {"--robot", "no_such_robot.yaml"}},
+      {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,1e-4,1e-3,1e-3"}, {"--thresholds", "6", "got 5"}},
+      {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,-1e-4,1e-3,1e-3,1e-3"}, {"--thresholds[2] (dz)", "-1e-4"}},
+      {{"--robot", kRef6, "--thresholds", "nan,1e-4,1e-4,1e-3,1e-3,1e-3"}, {"--thresholds[0] (dx)", "nan"}},
+      {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,1e-4,1e-3,1e-3,inf"}, {"--thresholds[5] (rz)", "inf"}},
+      {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,abc,1e-3,1e-3,1e-3"}, {"--thresholds[2]", "abc"}},
+      {{"--robot", kRef6, "--thresholds", "0,1e-4,1e-4,1e-3,1e-3,1e-3"}, {"--thresholds[0]", "> 0"}},
+      {{"--robot", kRef6, "--workspace", "paper"}, {"--thresholds", "required"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--method", "magic"}, {"--method", "magic", "mean_value"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--workspace", "nowhere"}, {"--workspace", "nowhere", "paper_40deg"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--workspace", inverted},
+       {"--workspace", "inverted.yaml", "[0.01, -0.01]"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--mode", "fastest"}, {"--mode", "fastest"}},
+      {{"--robot", kRef6, "--mode", "max-error", "--alpha", "0"}, {"--alpha", "> 0"}},
+      {{"--robot", kRef6, "--mode", "max-error", "--alpha", "-0.1"}, {"--alpha"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--threads", "-1"}, {"--threads"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--threads", "two"}, {"--threads", "two"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--time-limit", "nan"}, {"--time-limit"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--max-boxes", "1.5"}, {"--max-boxes"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--uncertainty", "-0.001"}, {"--uncertainty"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--min-width", "1,2,3"}, {"--min-width", "6"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--bisection", "random"}, {"--bisection", "random"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--frobnicate"}, {"--frobnicate", "unknown option"}},
+      {{"--robot", kRef6, "--thresholds", t6, "extra"}, {"extra", "unexpected argument"}},
+      {{"--robot"}, {"--robot", "missing value"}},
+      {{"--robot", kSource + "/config", "--thresholds", t6}, {"--robot", "config"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--min-width", "1,1,1,1,1,-1"}, {"--min-width[5] (yaw)"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--json", path("no_such_dir/out.json")}, {"--json", "no_such_dir"}},
+      {{"--robot", path("coincident.yaml"), "--thresholds", t6}, {"--robot", "platform_anchors"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--json", "-", "--yaml", "-"}, {"--yaml"}},
+  };
+  for (const Case& c : cases) {
+    std::string line;
+    for (const auto& a : c.args) line += a + " ";
+    SCOPED_TRACE(line);
+    const RunResult r = run(c.args);
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_EQ(r.err.rfind("pkm_verify: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+    for (const auto& m : c.mentions) EXPECT_NE(r.err.find(m), std::string::npos) << "'" << m << "' in: " << r.err;
+  }
+}
+
+TEST(CliResultWriter, NumbersRoundTripAndNeverPrintInfOrNan) {
+  using pkm_accuracy::io::jsonNumber;
+  for (double x : {0.1, 1e-4, 1.0 / 3.0, 0.6981317007977318, 5e-324, 1.7976931348623157e308, -2.5, 0.0, 12345.0}) {
+    EXPECT_EQ(std::strtod(jsonNumber(x).c_str(), nullptr), x) << jsonNumber(x);
+  }
+  EXPECT_EQ(jsonNumber(1e-4), "0.0001");
+  EXPECT_EQ(jsonNumber(std::numeric_limits<double>::infinity()), "null");
+  EXPECT_EQ(jsonNumber(-std::numeric_limits<double>::infinity()), "null");
+  EXPECT_EQ(jsonNumber(std::numeric_limits<double>::quiet_NaN()), "null");
+  EXPECT_EQ(pkm_accuracy::io::jsonString("a\"b\\c\nd\x01"), "\"a\\\"b\\\\c\\nd\\u0001\"");
+}
+
+}  // namespace
