@@ -495,9 +495,17 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
   const auto& s = r.stats;
   os << "stats:     " << s.boxes << " boxes in " << num(s.seconds, 3) << " s on " << s.threads << " thread"
      << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth << "\n";
+  const bool stoppedAtWitness =
+      r.verdict == verify::Verdict::Unsafe && o.mode == verify::Mode::Verify && o.stop_at_first_witness;
   os << "volume:    " << percent(s.safe_fraction) << (o.mode == verify::Mode::MaxError ? " settled, " : " safe, ")
-     << percent(s.unsafe_fraction) << " unsafe, " << percent(s.undecided_fraction) << " undecided, "
-     << percent(s.outside_fraction) << " outside the region\n";
+     << percent(s.unsafe_fraction) << " unsafe, " << percent(s.undecided_fraction)
+     << (stoppedAtWitness ? " not examined, " : " undecided, ") << percent(s.outside_fraction)
+     << " outside the region\n";
+  if (stoppedAtWitness) {
+    os << "left:      " << r.undecided_box_count << " box" << (r.undecided_box_count == 1 ? "" : "es")
+       << " not examined (the search stops at the first certified witness)\n";
+    return;
+  }
   os << "undecided: " << r.undecided_box_count << " box" << (r.undecided_box_count == 1 ? "" : "es") << "\n";
   const std::size_t shown = std::min<std::size_t>(r.undecided_boxes.size(), 3);
   for (std::size_t i = 0; i < shown; ++i) os << "           " << boxText(info, r.undecided_boxes[i].box) << "\n";

@@ -83,7 +83,7 @@ void usage(std::ostream& os) {
         "  --json OUT             write the result as JSON to OUT ('-': standard output; the summary then goes\n"
         "                         to stderr)\n"
         "  --yaml OUT             write the result as YAML to OUT ('-': standard output)\n"
-        "  --quiet                no summary on standard output, no progress line\n"
+        "  --quiet                no summary on standard output, no progress line (unless --progress)\n"
         "  --progress             show the progress line on stderr even if stderr is not a terminal (default: only\n"
         "                         on a terminal, for runs longer than a second)\n"
         "  --help                 this text\n"
@@ -333,10 +333,10 @@ class ProgressLine {
     if (p.stats.seconds < 1.0) return;  // short runs stay silent
     const auto& s = p.stats;
     const double done = std::min(1.0, s.safe_fraction + s.unsafe_fraction + s.undecided_fraction + s.outside_fraction);
-    constexpr int kWidth = 30;
+    constexpr int kWidth = 20;
     const int filled = static_cast<int>(done * kWidth);
     char line[256];
-    std::snprintf(line, sizeof line, "[%s%s] %6.2f%% of the volume closed, %zu boxes, %.1f s, depth %d%s",
+    std::snprintf(line, sizeof line, "[%s%s] %6.2f%% closed, %zu boxes, %.1f s, depth %d%s",
                   std::string(static_cast<std::size_t>(filled), '#').c_str(),
                   std::string(static_cast<std::size_t>(kWidth - filled), '.').c_str(), 100.0 * done, s.boxes, s.seconds,
                   s.max_depth, terminal_ ? " (Ctrl-C stops)" : "");
@@ -440,10 +440,10 @@ int run(int argc, char** argv) {
   const bool stdoutReport = a.json == "-" || a.yaml == "-";
   const bool terminal = ::isatty(STDERR_FILENO) == 1;
   std::unique_ptr<ProgressLine> progress;
-  if (!a.quiet && (terminal || a.progress)) {
+  if (a.progress || (!a.quiet && terminal)) {
     progress = std::make_unique<ProgressLine>(terminal);
     options.progress = [&progress](const verify::Progress& p) { progress->update(p); };
-    options.progress_period_s = terminal ? 0.25 : 2.0;
+    options.progress_period_s = terminal ? 0.25 : 1.0;
   }
   options.cancel = &g_cancel;
   installSignalHandlers();

@@ -573,6 +573,26 @@ TEST_F(CliTest, JsonOnStdoutAndUncertainty) {
   EXPECT_NE(r.err.find("verdict:   SAFE"), std::string::npos) << r.err;
 }
 
+TEST_F(CliTest, TimeLimitAndProgressInAPipe) {
+  // Max-error to 0.1 % over the whole paper workspace: far from done after 1.5 s. --progress in a pipe: plain
+  // lines, no carriage returns or escape sequences.
+  const RunResult r =
+      run({"--robot", kRef6, "--workspace", "paper", "--mode", "max-error", "--alpha", "0.001", "--threads", "1",
+           "--time-limit", "1.5", "--progress", "--quiet", "--json", path("out.json")});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  ASSERT_NE(r.err.find("pkm_verify: ["), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos);
+  EXPECT_EQ(r.err.find('\033'), std::string::npos);
+  EXPECT_EQ(r.err.back(), '\n');
+  const Json j = parseJson(readFile(path("out.json")));
+  EXPECT_EQ(j["verdict"].str(), "UNDECIDED");
+  EXPECT_EQ(j["reason"].str(), "time_budget");
+  EXPECT_EQ(j["time_limit"].num(), 1.5);
+  EXPECT_GE(j["undecided_boxes"]["count"].num(), 1.0);
+  EXPECT_LE(j["undecided_boxes"]["listed"].num(), 100.0);
+}
+
 TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
   const std::string inverted =
       writeWorkspace("inverted.yaml", {0.01, -0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -0.01, 0.01});
