@@ -493,8 +493,8 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
   }
 
   const auto& s = r.stats;
-  os << "stats:     " << s.boxes << " boxes in " << num(s.seconds, 3) << " s on " << s.threads << " thread"
-     << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth << "\n";
+  os << "stats:     " << s.boxes << (s.boxes == 1 ? " box in " : " boxes in ") << num(s.seconds, 3) << " s on "
+     << s.threads << " thread" << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth << "\n";
   const bool stoppedAtWitness =
       r.verdict == verify::Verdict::Unsafe && o.mode == verify::Mode::Verify && o.stop_at_first_witness;
   os << "volume:    " << percent(s.safe_fraction) << (o.mode == verify::Mode::MaxError ? " settled, " : " safe, ")
