@@ -147,7 +147,11 @@ class Run {
       }
     }
 
-    const int split = chooseSplit(box, depth, bounds);
+    // A box that straddles the region boundary also needs its position variables split (the smear of the error
+    // says nothing about the boundary, and centres outside the region can never be witnesses): every other level
+    // such a box is split by relative width instead.
+    const bool byWidth = where == domain::Containment::Partial && depth % 2 == 1;
+    const int split = chooseSplit(box, depth, bounds, byWidth);
     if (split < 0 || depth % std::max(1, options_.centre_check_period) == 0) {
       checkCentre(box);
       if (options_.mode == Mode::Verify && stop_.load() == static_cast<int>(Stop::Witness)) {
@@ -166,7 +170,7 @@ class Run {
     tbb::parallel_invoke([&] { process(left, depth + 1, active); }, [&] { process(right, depth + 1, active); });
   }
 
-  int chooseSplit(const IVec& box, int depth, const enclosure::ErrorBounds& bounds) const {
+  int chooseSplit(const IVec& box, int depth, const enclosure::ErrorBounds& bounds, bool byWidth) const {
     int best = -1;
     double bestScore = -1.0;
     auto splittable = [&](int i) { return box[i].upper() - box[i].lower() > minWidth_[i] && initWidth_[i] > 0.0; };
@@ -177,7 +181,7 @@ class Run {
       }
       return -1;
     }
-    const bool smear = options_.bisection == Bisection::Smear && bounds.splitScore.size() == m_;
+    const bool smear = !byWidth && options_.bisection == Bisection::Smear && bounds.splitScore.size() == m_;
     for (int i = 0; i < m_; ++i) {
       if (!splittable(i)) continue;
       const double scaled = (box[i].upper() - box[i].lower()) / initWidth_[i];
