@@ -22,39 +22,44 @@ Interval widenLibm(double v) noexcept {
 
 // ---- extremum detection by long-double reduction (|x| <= kReductionLimit) ----------------------------------------
 //
-// mayContainPeriodicPoint(a, b, phase) must answer "yes" whenever [a, b] contains a point c = phase + 2 k pi
-// (k integer); a spurious "yes" only widens the result by adding the extremum value +-1.
+// The extrema of sin are pi/2 + k pi and those of cos are k pi: maxima for even k, minima for odd k.
+// mayContainExtrema(a, b, phase) returns kMax / kMin bits that must be set whenever [a, b] contains a point
+// c = phase + k pi with even / odd k; a spurious bit only widens the result by adding the extremum value +-1.
 //
 // Rigour of the margin. Let u be the unit roundoff of long double in the worst case: u <= 2^-52 (53-bit significand,
 // e.g. an x87 precision control set to double or a platform where long double is double, in a directed rounding
-// mode; with the usual 64-bit x87 significand u = 2^-63). For |a|, |b| <= 2^30 the candidate k satisfy |k| < 2^28,
-// so k and k - 2 ... k + 2 are exact. The computed c = fl(P + fl(k T)), with P = fl(phase) and T = fl(2 pi), obeys
-//   |P - phase| <= u pi,  |T - 2 pi| <= 2 pi u,  |fl(k T) - k 2 pi| <= 2.01 u |k 2 pi|,  |c - fl(P + fl(kT))| <= u |c|
-// and |k 2 pi| <= |c_exact| + pi, so |c - c_exact| <= 3.1 u (|c| + pi) < 2^-50 (|c| + 4). The margin used below,
+// mode; with the usual 64-bit x87 significand u = 2^-63). For |a|, |b| <= 2^30 the candidate k satisfy |k| < 2^29,
+// so k, its parity and k0 + j are exact. The computed c = fl(P + fl(k T)), with P = fl(phase) and T = fl(pi), obeys
+//   |P - phase| <= u pi/2,  |T - pi| <= pi u,  |fl(k T) - k pi| <= 2.01 u |k pi|,  |c - fl(P + fl(kT))| <= u |c|
+// and |k pi| <= |c_exact| + pi/2, so |c - c_exact| <= 3.1 u (|c| + pi) < 2^-50 (|c| + 4). The margin used below,
 // 2^-40 (|c| + 4), is 1024 times larger, which also absorbs the rounding of a - margin and b + margin
-// (<= u (|c| + 2 pi + 1)). Hence c_exact in [a, b] implies that the test passes. The margin costs nothing in
+// (<= u (|c| + 2 pi + 1)). Hence c_exact in [a, b] implies that the test finds c. The margin costs nothing in
 // practice: an extremum is only added spuriously when an endpoint lies within the margin of it, where the function
 // differs from +-1 by at most margin^2 / 2 (< 2^-21 even at |x| = 2^30, < 1e-24 for |x| < 10).
 //
 // Which k are tried: t = (a - P) / T has an absolute error far below 1, so the computed floor(t) is within 1 of the
-// exact one; every k with c_k in [a - margin, b + margin] lies in [floor(t) - 1, floor(t) + 1] because
-// b - a < 6.2832 < 2 pi (the caller handles wider intervals); trying floor(t) - 2 ... floor(t) + 2 covers both.
+// exact one; every k with c_k in [a - margin, b + margin] lies in [floor(t) - 1, floor(t) + 2] because
+// b - a < 6.2832 < 2 pi (the caller handles wider intervals); trying floor(t) - 2 ... floor(t) + 3 in increasing
+// order, and stopping once c_k exceeds b + margin, covers both.
 constexpr double kReductionLimit = 0x1p30;
 constexpr long double kMarginRelative = 0x1p-40L;
-constexpr long double kTwoPi = 6.283185307179586476925286766559005768L;
 constexpr long double kHalfPi = 1.570796326794896619231321691639751442L;
 constexpr long double kPi = 3.141592653589793238462643383279502884L;
 static_assert(std::numeric_limits<long double>::digits >= 53, "the margin analysis assumes at least double precision");
+constexpr int kMaxBit = 1, kMinBit = 2;
 
-bool mayContainPeriodicPoint(double a, double b, long double phase) noexcept {
+int mayContainExtrema(double a, double b, long double phase) noexcept {
   const long double la = a, lb = b;
-  const long double k0 = std::floor((la - phase) / kTwoPi) - 2.0L;
-  for (int j = 0; j <= 4; ++j) {
-    const long double c = phase + (k0 + j) * kTwoPi;
+  const long double k0 = std::floor((la - phase) / kPi) - 2.0L;
+  int found = 0;
+  for (int j = 0; j <= 5; ++j) {
+    const long double k = k0 + j;
+    const long double c = phase + k * kPi;
     const long double margin = kMarginRelative * (std::fabs(c) + 4.0L);
-    if (c >= la - margin && c <= lb + margin) return true;
+    if (c > lb + margin) break;
+    if (c >= la - margin) found |= (static_cast<long long>(k) & 1) ? kMinBit : kMaxBit;  // NOLINT(runtime/int)
   }
-  return false;
+  return found;
 }
 
 // ---- extremum detection by the derivative (any magnitude, narrow intervals) --------------------------------------
@@ -90,10 +95,9 @@ Interval periodicEnclosure(const Interval& a, Kind kind) noexcept {
   Interval r = hull(fa, fb);
   bool addMax, addMin;
   if (std::max(-lo, hi) <= kReductionLimit) {
-    const long double maxPhase = kind == Kind::kSin ? kHalfPi : 0.0L;
-    const long double minPhase = kind == Kind::kSin ? -kHalfPi : kPi;
-    addMax = mayContainPeriodicPoint(lo, hi, maxPhase);
-    addMin = mayContainPeriodicPoint(lo, hi, minPhase);
+    const int found = mayContainExtrema(lo, hi, kind == Kind::kSin ? kHalfPi : 0.0L);
+    addMax = (found & kMaxBit) != 0;
+    addMin = (found & kMinBit) != 0;
   } else if (w < kNarrowWidth) {
     const Interval ga = widenLibm(libmCompanion(kind, lo)), gb = widenLibm(libmCompanion(kind, hi));
     if (ga.mig() > w || gb.mig() > w) return r;  // monotone
