@@ -5,7 +5,7 @@
 // through the long double sinl/cosl, see detail::libmSin) and each endpoint value is widened by kLibmUlpBound ulps
 // (then clamped to [-1, 1]). Extrema inside the interval are added
 // when they may be there, never dropped:
-//   * |x| <= 2^30: the extrema phase + 2 k pi are located by a long-double reduction with a proven error margin
+//   * |x| <= 2^30: the extrema phase + k pi are located by a long-double reduction with a proven error margin
 //     (Functions.cpp explains the bound);
 //   * larger |x|, width < 1: a derivative test on point values (sinl/cosl reduce every double accurately);
 //   * larger |x|, width >= 1, width >= 6.2831 or an unbounded interval: [-1, 1].
