@@ -231,3 +231,24 @@ TEST(Verifier, BadInputGetsTypedErrorsNamingTheField) {
   EXPECT_THROW(Interval(1.0, 0.0), InvalidArgument);
   EXPECT_THROW(Interval(std::nan(""), 0.0), InvalidArgument);
 }
+
+TEST(Verifier, FindsWitnessInARegionWhoseBoundingBoxCentreIsOutside) {
+  // Polyhedron x + y <= -0.005 inside a 2 cm box: the box centre is outside the region and the error hardly
+  // depends on x and y, so the witness search must look inside boxes that straddle the boundary.
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace ws(
+      domain::PositionRegion::polyhedron({Eigen::Vector3d(1, 1, 0)}, {-0.005}, Eigen::Vector3d(-0.01, -0.01, 0.47),
+                                         Eigen::Vector3d(0.01, 0.01, 0.48)),
+      {Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01, 0.01)});
+  for (const int presample : {3, 0}) {  // with and without the initial grid (whose corner is a witness)
+    verify::VerifierOptions o;
+    o.thresholds = DVec::Constant(6, 1e-6);
+    o.time_limit_s = 20.0;
+    o.presample_points = presample;
+    const auto r = verify::Verifier::run(robot, ws, o);
+    ASSERT_EQ(r.verdict, Verdict::Unsafe) << r.message;
+    EXPECT_LE(r.witness[0] + r.witness[1], -0.005);
+    EXPECT_LT(r.stats.seconds, 5.0);
+  }
+}

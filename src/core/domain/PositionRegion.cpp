@@ -108,9 +108,11 @@ Containment PositionRegion::classify(const Interval& x, const Interval& y, const
     if (g.upper() > 0.0) inside = false;
     return true;
   };
+  // Bounding-box constraints by exact comparisons (no rounding: a point on a face is inside).
   const Interval p[3] = {x, y, z};
   for (int k = 0; k < 3; ++k) {
-    if (!account(p[k] - Interval(hi_[k])) || !account(Interval(lo_[k]) - p[k])) return Containment::Outside;
+    if (p[k].isEmpty() || p[k].lower() > hi_[k] || p[k].upper() < lo_[k]) return Containment::Outside;
+    if (p[k].lower() < lo_[k] || p[k].upper() > hi_[k]) inside = false;
   }
   switch (type_) {
     case Type::Box:

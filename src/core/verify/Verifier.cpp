@@ -2,6 +2,7 @@
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
@@ -81,10 +82,22 @@ class Run {
     tbb::task_arena arena(threads);
     arena.execute([&] {
       presample();
-      if (stop_.load() == static_cast<int>(Stop::None)) {
-        process(initial_, 0, (1u << n_) - 1u);
-      } else {
+      if (stop_.load() != static_cast<int>(Stop::None)) {
         recordUndecided(initial_, DVec::Constant(n_, kInf));
+        return;
+      }
+      // Iterative deepening: each round runs depth-first searches limited to kRoundDepth more levels from every
+      // frontier box; boxes reaching the limit form the next round's frontier. So the whole domain is looked at
+      // coarsely before any part of it is refined to the precision limit (a witness or a good lower bound found
+      // anywhere ends or shortens the search), while memory stays bounded: once the next frontier holds
+      // kMaxFrontier boxes, further boxes are searched depth-first without limit instead of being stored.
+      std::vector<PendingBox> frontier{{initial_, 0, (1u << n_) - 1u}};
+      for (int limit = kRoundDepth; !frontier.empty(); limit += kRoundDepth) {
+        next_.clear();
+        depthLimit_ = limit;
+        tbb::parallel_for(std::size_t(0), frontier.size(),
+                          [&](std::size_t i) { process(frontier[i].box, frontier[i].depth, frontier[i].active); });
+        frontier.swap(next_);
       }
     });
     return finish();
@@ -167,7 +180,17 @@ class Run {
     IVec left = box, right = box;
     left[split] = halves.first;
     right[split] = halves.second;
+    if (depth + 1 >= depthLimit_ && deferToNextRound(left, right, depth + 1, active)) return;
     tbb::parallel_invoke([&] { process(left, depth + 1, active); }, [&] { process(right, depth + 1, active); });
+  }
+
+  /// Stores both children for the next round unless the frontier is full (then the caller goes on depth-first).
+  bool deferToNextRound(const IVec& left, const IVec& right, int depth, unsigned active) {
+    std::lock_guard<std::mutex> lock(frontierMutex_);
+    if (next_.size() + 2 > kMaxFrontier) return false;
+    next_.push_back({left, depth, active});
+    next_.push_back({right, depth, active});
+    return true;
   }
 
   int chooseSplit(const IVec& box, int depth, const enclosure::ErrorBounds& bounds, bool byWidth) const {
@@ -196,11 +219,31 @@ class Run {
   }
 
   /// Certified evaluation at the box centre (if it certainly lies in the domain): witness or better lower bounds.
+  /// When the centre is outside the domain (a box straddling the region boundary), points a quarter width away
+  /// along each variable are tried instead, so that witnesses inside the region are found without descending the
+  /// boundary to the precision limit.
   void checkCentre(const IVec& box) {
-    const DVec t = domain::centreOf(box);
+    const DVec c = domain::centreOf(box);
     IVec thin(m_);
-    for (int i = 0; i < m_; ++i) thin[i] = Interval(t[i]);
-    evaluatePoint(t, thin);
+    for (int i = 0; i < m_; ++i) thin[i] = Interval(c[i]);
+    if (domain_.classify(thin) == domain::Containment::Inside) {
+      evaluatePoint(c, thin);
+      return;
+    }
+    for (int i = 0; i < m_; ++i) {
+      const double quarter = 0.25 * (box[i].upper() - box[i].lower());
+      if (!(quarter > 0.0)) continue;
+      for (const double sign : {-1.0, 1.0}) {
+        DVec t = c;
+        t[i] = std::min(std::max(c[i] + sign * quarter, box[i].lower()), box[i].upper());
+        IVec p = thin;
+        p[i] = Interval(t[i]);
+        if (domain_.classify(p) == domain::Containment::Inside) {
+          evaluatePoint(t, p);
+          return;
+        }
+      }
+    }
   }
 
   void evaluatePoint(const DVec& t, const IVec& thin) {
@@ -453,6 +496,17 @@ class Run {
   DVec minWidth_, initWidth_;
   bool hasThresholds_ = false;
   Clock::time_point start_;
+
+  struct PendingBox {
+    IVec box;
+    int depth;
+    unsigned active;
+  };
+  static constexpr int kRoundDepth = 12;
+  static constexpr std::size_t kMaxFrontier = 1u << 17;  // ~130k boxes, ~25 MB
+  std::vector<PendingBox> next_;
+  std::mutex frontierMutex_;
+  int depthLimit_ = kRoundDepth;
 
   std::atomic<int> stop_{0};
   std::atomic<std::size_t> boxes_{0};
