@@ -1,6 +1,7 @@
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
 
 #include <Eigen/LU>
+#include <cmath>
 #include <utility>
 
 namespace pkm_accuracy {
@@ -28,6 +29,60 @@ IMat multiply(const IMat& a, const DMat& c) {
     }
   }
   return r;
+}
+
+namespace {
+
+// Midpoint m and a radius r with [m - r, m + r] containing the interval (r rounded up, also covering a midpoint
+// that is not exactly central).
+void midRad(const IMat& a, DMat& m, DMat& r) {
+  m.resize(a.rows(), a.cols());
+  r.resize(a.rows(), a.cols());
+  for (int i = 0; i < a.rows(); ++i) {
+    for (int j = 0; j < a.cols(); ++j) {
+      const double mid = a(i, j).mid();
+      m(i, j) = mid;
+      r(i, j) =
+          std::max(interval::rounding::subUp(mid, a(i, j).lower()), interval::rounding::subUp(a(i, j).upper(), mid));
+    }
+  }
+}
+
+// From s = fl(X Y), p = fl(|X| |Y_mid|) and q = fl(|X| rad) (inner dimension n), the enclosure of the exact product
+// set. In any rounding mode each operation has relative error below u = 2^-52 (plus an absolute 2^-1074 on
+// underflow), so |s - exact mid product| <= gamma_n p_exact and p_exact <= (1 + gamma_n) p, q_exact <= (1 +
+// gamma_n) q, gamma_n = n u / (1 - n u). The radius bound below over-covers these terms with explicit margins.
+IMat assemble(const DMat& s, const DMat& p, const DMat& q, int n) {
+  const double u = 0x1p-52;
+  const double gamma = (n + 2) * u / (1.0 - (n + 2) * u);
+  const double tiny = 1e-300;  // >> 2n * 2^-1074, the underflow terms
+  IMat out(s.rows(), s.cols());
+  for (int i = 0; i < s.rows(); ++i) {
+    for (int j = 0; j < s.cols(); ++j) {
+      // r >= (1 + gamma) q + gamma (1 + gamma) p, evaluated with an extra relative margin for its own roundings.
+      const double r = interval::rounding::nextUp((q(i, j) + gamma * 2.0 * p(i, j)) * (1.0 + 4.0 * gamma) + tiny);
+      out(i, j) =
+          Interval::fromBoundsUnchecked(interval::rounding::subDown(s(i, j), r), interval::rounding::addUp(s(i, j), r));
+      if (!std::isfinite(r) || !std::isfinite(s(i, j))) out(i, j) = Interval::entire();
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+IMat multiplyMidRad(const DMat& c, const IMat& a) {
+  DMat m, r;
+  midRad(a, m, r);
+  const DMat ac = c.cwiseAbs();
+  return assemble(c * m, ac * m.cwiseAbs(), ac * r, static_cast<int>(c.cols()));
+}
+
+IMat multiplyMidRad(const IMat& a, const DMat& c) {
+  DMat m, r;
+  midRad(a, m, r);
+  const DMat ac = c.cwiseAbs();
+  return assemble(m * c, m.cwiseAbs() * ac, r * ac, static_cast<int>(c.rows()));
 }
 
 IMat multiply(const IMat& a, const IMat& b) {

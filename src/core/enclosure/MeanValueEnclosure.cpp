@@ -21,9 +21,9 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   if (!approximateInverse(midpoint(centre), c)) return;
 
   // A = C J^-1(centre) + sum_i (C dJ^-1/dt_i) dev_i, intersected with the naive C J^-1(box).
-  IMat a = multiply(c, centre);
+  IMat a = multiplyMidRad(c, centre);
   for (int i = 0; i < vars; ++i) {
-    const IMat cd = multiply(c, mg.d[i]);
+    const IMat cd = multiplyMidRad(c, mg.d[i]);
     const Interval dev = box.deviation[i];
     double score = 0.0;
     for (int r = 0; r < n; ++r) {
@@ -34,7 +34,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
     }
     out.splitScore[i] = score * dev.mag();
   }
-  const IMat naive = multiply(c, mg.value);
+  const IMat naive = multiplyMidRad(c, mg.value);
   for (int r = 0; r < n; ++r)
     for (int s = 0; s < n; ++s) {
       const Interval both = intersect(a(r, s), naive(r, s));
@@ -44,7 +44,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
 
   IMat inv;
   if (!gaussInverse(a, inv, false)) return;
-  const IVec f = errorFromJacobian(multiply(inv, c), model.sensorError());
+  const IVec f = errorFromJacobian(multiplyMidRad(inv, c), model.sensorError());
   for (int k = 0; k < n; ++k) {
     out.upper[k] = f[k].upper();
     out.lower[k] = f[k].lower();

@@ -118,6 +118,110 @@ IVec GoughPlatform::legLengths(const IVec& pose) const {
 }
 
 void GoughPlatform::inverseJacobian(const DualPose& pose, MatrixWithGradient& out) const {
+  // Analytic derivatives with respect to the six pose coordinates (much cheaper than propagating six-component
+  // gradients through every operation), then the chain rule through the pose map's own gradient.
+  IVec q(6);
+  for (int i = 0; i < 6; ++i) q[i] = pose[i].value();
+  MatrixWithGradient byPose;
+  poseDerivatives(q, byPose);
+  out.value = byPose.value;
+  bool identity = true;
+  for (int i = 0; i < 6 && identity; ++i)
+    for (int j = 0; j < kMaxDof; ++j)
+      if (pose[i].d(j) != Interval(i == j ? 1.0 : 0.0)) {
+        identity = false;
+        break;
+      }
+  if (identity) {
+    out.d = byPose.d;
+    return;
+  }
+  for (int j = 0; j < kMaxDof; ++j) {
+    out.d[j] = IMat::Constant(6, 6, Interval(0.0));
+    for (int i = 0; i < 6; ++i) {
+      const Interval g = pose[i].d(j);
+      if (g == Interval(0.0)) continue;
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) out.d[j](r, c) += byPose.d[i](r, c) * g;
+    }
+  }
+}
+
+void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) const {
+  const Interval sr = interval::sin(q[3]), cr = interval::cos(q[3]);
+  const Interval sp = interval::sin(q[4]), cp = interval::cos(q[4]);
+  const Interval sy = interval::sin(q[5]), cy = interval::cos(q[5]);
+  const Interval cysp = cy * sp, sysp = sy * sp;
+  const Interval r[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
+                            {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
+                            {-sp, cp * sr, cp * cr}};
+  // dR/droll = R [e_x]x: column 1 <- column 2, column 2 <- -column 1. dR/dyaw = [e_z]x R: row 0 <- -row 1,
+  // row 1 <- row 0, row 2 <- 0. dR/dpitch = Rz dRy/dpitch Rx, entry by entry.
+  const Interval cycp = cy * cp, sycp = sy * cp;
+  const Interval dp[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
+  out.value.resize(6, 6);
+  for (auto& d : out.d) d = IMat::Constant(6, 6, Interval(0.0));
+  for (int i = 0; i < 6; ++i) {
+    Interval rb[3], u[3], d[3];
+    const Interval bc[3] = {b_[i][0] - c_[0], b_[i][1] - c_[1], b_[i][2] - c_[2]};
+    for (int k = 0; k < 3; ++k) {
+      rb[k] = r[k][0] * b_[i][0] + r[k][1] * b_[i][1] + r[k][2] * b_[i][2];
+      u[k] = r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2];
+      d[k] = q[k] + rb[k] - a_[i][k];
+    }
+    const Interval len = sqrt(sqr(d[0]) + sqr(d[1]) + sqr(d[2]));
+    const Interval n[3] = {d[0] / len, d[1] / len, d[2] / len};
+    const Interval w[3] = {u[1] * d[2] - u[2] * d[1], u[2] * d[0] - u[0] * d[2], u[0] * d[1] - u[1] * d[0]};
+    const Interval m[3] = {w[0] / len, w[1] / len, w[2] / len};
+    for (int k = 0; k < 3; ++k) {
+      out.value(i, k) = n[k];
+      out.value(i, 3 + k) = m[k];
+    }
+    // Derivatives of d and u for each pose variable, then of n = d / L and m = (u x d) / L:
+    //   dL = (d . dd) / L,  dn = (dd - n dL) / L,  dm = (du x d + u x dd - m dL) / L.
+    auto emit = [&](int var, const Interval dd[3], const Interval du[3]) {
+      const Interval dl = (d[0] * dd[0] + d[1] * dd[1] + d[2] * dd[2]) / len;
+      const Interval dw[3] = {du[1] * d[2] - du[2] * d[1] + (u[1] * dd[2] - u[2] * dd[1]),
+                              du[2] * d[0] - du[0] * d[2] + (u[2] * dd[0] - u[0] * dd[2]),
+                              du[0] * d[1] - du[1] * d[0] + (u[0] * dd[1] - u[1] * dd[0])};
+      for (int k = 0; k < 3; ++k) {
+        out.d[var](i, k) = (dd[k] - n[k] * dl) / len;
+        out.d[var](i, 3 + k) = (dw[k] - m[k] * dl) / len;
+      }
+    };
+    const Interval zero(0.0), one(1.0);
+    const Interval du0[3] = {zero, zero, zero};
+    for (int k = 0; k < 3; ++k) {
+      const Interval dd[3] = {k == 0 ? one : zero, k == 1 ? one : zero, k == 2 ? one : zero};
+      emit(k, dd, du0);
+    }
+    // roll: d(R v)/droll = R (e_x x v) = R (0, -v_z, v_y).
+    {
+      Interval dd[3], du[3];
+      for (int k = 0; k < 3; ++k) {
+        dd[k] = r[k][2] * b_[i][1] - r[k][1] * b_[i][2];
+        du[k] = r[k][2] * bc[1] - r[k][1] * bc[2];
+      }
+      emit(3, dd, du);
+    }
+    {
+      Interval dd[3], du[3];
+      for (int k = 0; k < 3; ++k) {
+        dd[k] = dp[k][0] * b_[i][0] + dp[k][1] * b_[i][1] + dp[k][2] * b_[i][2];
+        du[k] = dp[k][0] * bc[0] + dp[k][1] * bc[1] + dp[k][2] * bc[2];
+      }
+      emit(4, dd, du);
+    }
+    {
+      // yaw: d(R v)/dyaw = e_z x (R v) = (-(Rv)_y, (Rv)_x, 0).
+      const Interval dd[3] = {-rb[1], rb[0], zero};
+      const Interval du[3] = {-u[1], u[0], zero};
+      emit(5, dd, du);
+    }
+  }
+}
+
+void GoughPlatform::inverseJacobianByDualNumbers(const DualPose& pose, MatrixWithGradient& out) const {
   DualI rows[6][6], len[6];
   goughKinematics(pose.data(), a_, b_, c_, rows, len);
   out.value.resize(6, 6);

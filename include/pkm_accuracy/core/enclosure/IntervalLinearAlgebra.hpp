@@ -11,6 +11,13 @@ namespace enclosure {
 IMat multiply(const DMat& c, const IMat& a);
 /// Rigorous enclosure of A * C (A interval, C point).
 IMat multiply(const IMat& a, const DMat& c);
+/// Rigorous enclosure of C * A in midpoint-radius form: C mid(A) +- (|C| rad(A) + rounding-error bound), with
+/// three double matrix products (vectorised) instead of interval arithmetic. The rounding-error bound is a priori
+/// (gamma_n |C| |mid(A)|, valid in every rounding mode). At most ~1.5x wider than multiply() in the worst case,
+/// practically equal for thin A; an order of magnitude cheaper.
+IMat multiplyMidRad(const DMat& c, const IMat& a);
+/// The same for A * C.
+IMat multiplyMidRad(const IMat& a, const DMat& c);
 /// Rigorous enclosure of A * B (both interval).
 IMat multiply(const IMat& a, const IMat& b);
 

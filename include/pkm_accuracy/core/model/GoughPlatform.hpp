@@ -32,6 +32,13 @@ class GoughPlatform final : public RobotModel {
   /// Enclosure of the leg lengths over a pose box (every admissible geometry).
   IVec legLengths(const IVec& pose) const;
 
+  /// Enclosures of J^-1 and of its partial derivatives with respect to (x, y, z, roll, pitch, yaw) over a pose box,
+  /// by analytic differentiation (what inverseJacobian(DualPose) uses, followed by the chain rule).
+  void poseDerivatives(const IVec& pose, MatrixWithGradient& out) const;
+  /// The same as inverseJacobian(DualPose) by generic forward-mode dual numbers: a slower, independent
+  /// implementation kept as a reference for the tests.
+  void inverseJacobianByDualNumbers(const DualPose& pose, MatrixWithGradient& out) const;
+
  private:
   GoughGeometry geometry_;
   bool uncertain_;

@@ -1,0 +1,115 @@
+// Interval linear algebra: products (interval and midpoint-radius) and Gauss elimination contain the exact results
+// for point matrices drawn from the interval matrices; exact values by MPFR (200 bits).
+#include <gtest/gtest.h>
+#include <mpfr.h>
+
+#include <cfenv>
+#include <random>
+
+#include <Eigen/LU>
+
+#include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
+
+using namespace pkm_accuracy;
+using enclosure::multiply;
+using enclosure::multiplyMidRad;
+
+namespace {
+
+IMat randomIntervalMatrix(std::mt19937_64& rng, int n, double scale, double width) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 1.0);
+  IMat a(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double m = scale * u(rng), h = width * scale * w(rng);
+      a(i, j) = Interval(m - h, m + h);
+    }
+  return a;
+}
+
+DMat pointIn(const IMat& a, std::mt19937_64& rng) {
+  DMat p(a.rows(), a.cols());
+  for (int i = 0; i < a.rows(); ++i)
+    for (int j = 0; j < a.cols(); ++j) {
+      std::uniform_real_distribution<double> u(a(i, j).lower(), a(i, j).upper());
+      p(i, j) = (rng() % 4 == 0) ? (rng() % 2 ? a(i, j).lower() : a(i, j).upper()) : u(rng);
+    }
+  return p;
+}
+
+// Exact (200-bit) entry (i, j) of X Y compared with an interval.
+bool exactProductInside(const DMat& x, const DMat& y, int i, int j, const Interval& iv) {
+  mpfr_t s, t;
+  mpfr_inits2(200, s, t, static_cast<mpfr_ptr>(nullptr));
+  mpfr_set_zero(s, 1);
+  for (int k = 0; k < x.cols(); ++k) {
+    mpfr_set_d(t, x(i, k), MPFR_RNDN);
+    mpfr_mul_d(t, t, y(k, j), MPFR_RNDN);  // exact at 200 bits
+    mpfr_add(s, s, t, MPFR_RNDN);          // exact at 200 bits for these magnitudes
+  }
+  const bool ok = mpfr_cmp_d(s, iv.lower()) >= 0 && mpfr_cmp_d(s, iv.upper()) <= 0;
+  mpfr_clears(s, t, static_cast<mpfr_ptr>(nullptr));
+  return ok;
+}
+
+}  // namespace
+
+TEST(IntervalLinearAlgebra, ProductsContainExactProductsInEveryRoundingMode) {
+  std::mt19937_64 rng(99);
+  const int modes[4] = {FE_TONEAREST, FE_UPWARD, FE_DOWNWARD, FE_TOWARDZERO};
+  int checks = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const int n = 3 + trial % 4;
+    const double scale = std::pow(10.0, static_cast<int>(rng() % 9) - 4);
+    const double width = (trial % 3 == 0) ? 0.0 : std::pow(10.0, -static_cast<int>(rng() % 12));
+    const IMat a = randomIntervalMatrix(rng, n, scale, width);
+    DMat c(n, n);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) c(i, j) = u(rng);
+    const int saved = std::fegetround();
+    std::fesetround(modes[trial % 4]);
+    const IMat left = multiplyMidRad(c, a), right = multiplyMidRad(a, c), plain = multiply(c, a);
+    std::fesetround(saved);
+    for (int s = 0; s < 3; ++s) {
+      const DMat p = pointIn(a, rng);
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          EXPECT_TRUE(exactProductInside(c, p, i, j, left(i, j))) << "C*A trial " << trial;
+          EXPECT_TRUE(exactProductInside(p, c, i, j, right(i, j))) << "A*C trial " << trial;
+          EXPECT_TRUE(exactProductInside(c, p, i, j, plain(i, j))) << "plain trial " << trial;
+          checks += 3;
+        }
+    }
+    // Midpoint-radius is never much wider than the interval product.
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) EXPECT_LE(left(i, j).width(), 1.5 * plain(i, j).width() + 1e-13 * scale);
+  }
+  EXPECT_GT(checks, 300000);
+}
+
+TEST(IntervalLinearAlgebra, GaussInverseContainsInversesOfPointMatrices) {
+  std::mt19937_64 rng(5);
+  for (int trial = 0; trial < 500; ++trial) {
+    const int n = 6;
+    IMat a = randomIntervalMatrix(rng, n, 0.05, 1e-3);
+    for (int i = 0; i < n; ++i) a(i, i) += Interval(1.0);  // near identity, as after preconditioning
+    IMat inv;
+    ASSERT_TRUE(enclosure::gaussInverse(a, inv, false));
+    for (int s = 0; s < 5; ++s) {
+      const DMat p = pointIn(a, rng);
+      const DMat pinv = p.inverse();
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const double slack = 1e-14;  // the double inverse itself is only approximate
+          EXPECT_LE(inv(i, j).lower() - slack, pinv(i, j));
+          EXPECT_GE(inv(i, j).upper() + slack, pinv(i, j));
+        }
+    }
+  }
+  // A singular interval matrix is reported, not inverted.
+  IMat s(2, 2);
+  s << Interval(1.0), Interval(1.0), Interval(1.0), Interval(0.9, 1.1);
+  IMat inv;
+  EXPECT_FALSE(enclosure::gaussInverse(s, inv, true));
+}
