@@ -11,10 +11,11 @@
 namespace pkm_accuracy {
 namespace enclosure {
 
-std::vector<std::string> enclosureNames() { return {"mean_value", "precond", "paper_baseline"}; }
+std::vector<std::string> enclosureNames() { return {"second_order", "mean_value", "precond", "paper_baseline"}; }
 
 std::unique_ptr<ErrorEnclosure> makeEnclosure(const std::string& name) {
-  if (name == "mean_value" || name == "default") return std::make_unique<MeanValueEnclosure>();
+  if (name == "second_order" || name == "default") return std::make_unique<MeanValueEnclosure>(true);
+  if (name == "mean_value") return std::make_unique<MeanValueEnclosure>(false);
   if (name == "precond") return std::make_unique<PreconditionedEnclosure>();
   if (name == "paper_baseline") return std::make_unique<PaperBaselineEnclosure>();
   std::string list;

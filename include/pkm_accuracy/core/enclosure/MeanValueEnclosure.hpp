@@ -11,11 +11,19 @@
 namespace pkm_accuracy {
 namespace enclosure {
 
+//
+// With secondOrder (registry name "second_order", the default), a second bound of f_k is computed from the
+// identity N = I - E + E^2 N (E = C J^-1 - I): its first-order part keeps the cancellations between the terms of
+// sum_j |J_kj| e_j, its remainder is quadratic in the box size (see the .cpp); the tighter bound is returned.
 class MeanValueEnclosure final : public ErrorEnclosure {
  public:
-  std::string name() const override { return "mean_value"; }
+  explicit MeanValueEnclosure(bool secondOrder = false) : secondOrder_(secondOrder) {}
+  std::string name() const override { return secondOrder_ ? "second_order" : "mean_value"; }
   bool needsGradient() const override { return true; }
   void enclose(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) const override;
+
+ private:
+  bool secondOrder_;
 };
 
 }  // namespace enclosure
