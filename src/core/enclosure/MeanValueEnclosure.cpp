@@ -1,6 +1,7 @@
 #include "pkm_accuracy/core/enclosure/MeanValueEnclosure.hpp"
 
 #include <array>
+#include <cmath>
 #include <limits>
 
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
@@ -74,6 +75,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   // mode (relative error below 2 gamma_6 < 3e-15 per product); 1e-300 covers underflow.
   const DMat remainder = ((magE * magE) * magN) * (1.0 + 1e-13) + DMat::Constant(n, n, 1e-300);
   if (!remainder.allFinite()) return;
+  DVec smear = DVec::Zero(vars);
   for (int k = 0; k < n; ++k) {
     Interval rest(0.0);
     IVec v = IVec::Constant(n, Interval(0.0));
@@ -91,14 +93,21 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
       const Interval nkl = Interval(k == l ? 2.0 : 0.0) - a0(k, l) + Interval(-remainder(k, l), remainder(k, l));
       value += nkl * v[l];
     }
+    Interval linear[kMaxDof];
     for (int i = 0; i < vars; ++i) {
       Interval g(0.0);
       for (int l = 0; l < n; ++l) g += cds[i](k, l) * v[l];
-      value -= g * box.deviation[i];
+      linear[i] = g * box.deviation[i];
+      value -= linear[i];
     }
     out.upper[k] = std::min(out.upper[k], (value + rest).upper());
     out.lower[k] = std::max(out.lower[k], value.lower());
+    // Bisection hint: each variable's share of the width of this bound, relative to the bound.
+    if (out.upper[k] > 0.0 && std::isfinite(out.upper[k])) {
+      for (int i = 0; i < vars; ++i) smear[i] = std::max(smear[i], linear[i].mag() / out.upper[k]);
+    }
   }
+  if (smear.maxCoeff() > 0.0) out.splitScore = smear;
 }
 
 }  // namespace enclosure
