@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
   // tiny fixed orientation at +5%: default vs paper_baseline with round-robin bisection.
   o.thresholds = hiTiny * 1.05;
   const auto tinyDefault = verify::Verifier::run(tiny6, fixedWs, o);
-  row("tiny +5% mean_value smear, 2 threads", tinyDefault);
+  row("tiny +5% default (second_order), 2 threads", tinyDefault);
   verify::VerifierOptions b = o;
   b.method = "paper_baseline";
   b.bisection = verify::Bisection::RoundRobin;

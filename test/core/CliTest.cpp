@@ -396,7 +396,7 @@ TEST_F(CliTest, GenerousThresholdsOnTinyBoxAreSafe) {
     EXPECT_EQ(j["mode"].str(), "verify");
     EXPECT_EQ(j["workspace"].str(), tiny_);
     EXPECT_EQ(j["robot"].str(), kRef6);
-    EXPECT_EQ(j["method"].str(), "mean_value");
+    EXPECT_EQ(j["method"].str(), "second_order");
     EXPECT_EQ(j["thresholds"].numbers(), thresholds);  // exact round trip of every double
     EXPECT_TRUE(j["witness"].isNull());
     EXPECT_TRUE(j["max_error"].isNull());

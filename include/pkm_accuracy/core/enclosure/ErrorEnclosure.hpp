@@ -37,7 +37,7 @@ struct ErrorBounds {
 class ErrorEnclosure {
  public:
   virtual ~ErrorEnclosure() = default;
-  /// Registry name ("paper_baseline", "precond", "mean_value").
+  /// Registry name ("second_order", "mean_value", "precond", "paper_baseline").
   virtual std::string name() const = 0;
   /// True if enclose() reads BoxInput::dualPose.
   virtual bool needsGradient() const = 0;

@@ -35,7 +35,7 @@ struct VerifierOptions {
   double alpha = 0.01;
   bool alpha_relative = true;
   /// Enclosure method (enclosure::enclosureNames()).
-  std::string method = "mean_value";
+  std::string method = "second_order";
   Bisection bisection = Bisection::Smear;
   /// Boxes narrower than this in every variable are not split (per variable; empty: 1e-5 of the initial width).
   DVec min_width;
