@@ -242,6 +242,8 @@ bool hasWitness(const verify::VerifierResult& r) {
   return r.verdict == verify::Verdict::Unsafe && r.witness_component >= 0 && r.witness.size() > 0;
 }
 
+bool isTrajectory(const RunInfo& info) { return info.domain == "trajectory"; }
+
 Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o, const RunInfo& info) {
   Node d = Node::object();
   d.set("tool", Node::string(info.tool));
@@ -251,7 +253,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("message", Node::string(r.message));
   d.set("mode", Node::string(modeName(o.mode)));
   d.set("robot", Node::string(info.robot));
-  d.set("workspace", Node::string(info.workspace));
+  d.set("workspace", info.trajectory.empty() ? Node::string(info.workspace) : Node());
   d.set("workspace_region", Node::string(info.workspace_region));
   d.set("workspace_box", box(info.workspace_box));
   d.set("variables", strings(info.variables));
@@ -284,6 +286,11 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
     Node argmax = Node::array();
     for (const DVec& a : r.max_argmax) argmax.push(numbersOrNull(a));
     m.set("argmax", argmax);
+    if (isTrajectory(info)) {  // the time of every argmax (s)
+      Node times = Node::array();
+      for (const DVec& a : r.max_argmax) times.push(a.size() > 0 ? Node::number(info.timeOf(a[0])) : Node());
+      m.set("argmax_t", times);
+    }
     d.set("max_error", m);
   } else {
     d.set("max_error", Node());
@@ -313,6 +320,23 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   u.set("boxes", boxes);
   u.set("upper", upper);
   d.set("undecided_boxes", u);
+
+  d.set("domain", Node::string(info.domain));
+  d.set("trajectory", info.trajectory.empty() ? Node() : Node::string(info.trajectory));
+  d.set("trajectory_type", info.trajectory.empty() ? Node() : Node::string(info.trajectory_type));
+  const bool traj = isTrajectory(info);
+  d.set("time_span",
+        traj ? Node::array().push(Node::number(info.time_start)).push(Node::number(info.time_end)) : Node());
+  d.set("witness_t", traj && witness && r.witness.size() > 0 ? Node::number(info.timeOf(r.witness[0])) : Node());
+  if (traj) {
+    Node times = Node::array();
+    for (const auto& iv : undecidedTimes(r, info)) {
+      times.push(Node::array().push(Node::number(iv.first)).push(Node::number(iv.second)));
+    }
+    d.set("undecided_t", times);
+  } else {
+    d.set("undecided_t", Node());
+  }
   return d;
 }
 
@@ -372,6 +396,29 @@ std::string pad(const std::string& s, std::size_t w) {
 }
 
 }  // namespace
+
+double RunInfo::timeOf(double u) const {
+  const double t = time_start + u * (time_end - time_start);
+  return std::min(std::max(t, time_start), time_end);
+}
+
+std::vector<std::pair<double, double>> undecidedTimes(const verify::VerifierResult& result, const RunInfo& info) {
+  std::vector<std::pair<double, double>> t;
+  for (const auto& b : result.undecided_boxes) {
+    if (b.box.size() < 1 || b.box[0].isEmpty()) continue;
+    t.emplace_back(info.timeOf(b.box[0].lower()), info.timeOf(b.box[0].upper()));
+  }
+  std::sort(t.begin(), t.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& iv : t) {
+    if (!merged.empty() && iv.first <= merged.back().second) {
+      merged.back().second = std::max(merged.back().second, iv.second);
+    } else {
+      merged.push_back(iv);
+    }
+  }
+  return merged;
+}
 
 std::string modeName(verify::Mode mode) { return mode == verify::Mode::MaxError ? "max-error" : "verify"; }
 
@@ -452,15 +499,31 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
   if (r.verdict == verify::Verdict::Undecided) os << " (" << verify::toString(r.reason) << ")";
   os << "\nmessage:   " << r.message << "\n";
   os << "robot:     " << info.robot << " (anchor uncertainty " << num(info.anchor_uncertainty) << " m)\n";
-  os << "workspace: " << info.workspace << " (" << info.workspace_region << "): " << boxText(info, info.workspace_box)
-     << "\n";
+  if (info.trajectory.empty()) {
+    os << "workspace: " << info.workspace << " (" << info.workspace_region << "): " << boxText(info, info.workspace_box)
+       << "\n";
+  } else {
+    os << pad(info.domain + ":", 11) << info.trajectory << " (" << info.trajectory_type << ")";
+    if (isTrajectory(info)) os << ", t in [" << num(info.time_start) << ", " << num(info.time_end) << "] s";
+    if (info.workspace_region != "none") os << ", region " << info.workspace_region;
+    os << "\n";
+  }
   os << "method:    " << o.method << ", bisection " << bisectionName(o.bisection) << ", mode " << modeName(o.mode);
   if (o.mode == verify::Mode::MaxError) os << ", alpha " << num(o.alpha) << (o.alpha_relative ? " (relative)" : "");
   os << "\n";
 
   if (hasWitness(r)) {
     const int k = r.witness_component;
-    os << "witness:   " << variables(info, witnessPose(r)) << "\n";
+    if (info.trajectory.empty()) {
+      os << "witness:   " << variables(info, witnessPose(r)) << "\n";
+    } else {
+      RunInfo poseNames = info;
+      poseNames.variables = {"x [m]", "y [m]", "z [m]", "roll [rad]", "pitch [rad]", "yaw [rad]"};
+      os << "witness:   ";
+      if (isTrajectory(info)) os << "t = " << num(info.timeOf(r.witness[0]), 9) << " s (";
+      os << variables(info, r.witness) << (isTrajectory(info) ? ")" : "") << "\n";
+      os << "           pose " << variables(poseNames, witnessPose(r)) << "\n";
+    }
     os << "           " << componentOf(info, k) << " worst error >= " << num(r.witness_lower_bound, 9) << " "
        << unitOf(info, k);
     if (k < o.thresholds.size()) os << " > threshold " << num(o.thresholds[k]) << " " << unitOf(info, k);
@@ -507,6 +570,15 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
     return;
   }
   os << "undecided: " << r.undecided_box_count << " box" << (r.undecided_box_count == 1 ? "" : "es") << "\n";
+  if (isTrajectory(info) && !r.undecided_boxes.empty()) {
+    const auto times = undecidedTimes(r, info);
+    os << "           in time:";
+    for (std::size_t i = 0; i < std::min<std::size_t>(times.size(), 5); ++i) {
+      os << " [" << num(times[i].first) << ", " << num(times[i].second) << "] s";
+    }
+    if (times.size() > 5) os << " ... (" << times.size() << " intervals)";
+    os << "\n";
+  }
   const std::size_t shown = std::min<std::size_t>(r.undecided_boxes.size(), 3);
   for (std::size_t i = 0; i < shown; ++i) os << "           " << boxText(info, r.undecided_boxes[i].box) << "\n";
   if (r.undecided_box_count > shown) {

@@ -1,5 +1,6 @@
 // pkm_verify: command-line verifier of the worst-case positioning accuracy of a Gough-Stewart platform over a
-// workspace (no ROS). See usage() for the arguments and the exit codes, README.md "Command-line tool".
+// workspace, a trajectory or a motion variety (no ROS). See usage() for the arguments and the exit codes, README.md
+// "Command-line tool" and docs/trajectories.md.
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,6 +27,7 @@
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 #include "pkm_accuracy/io/ResultWriter.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
+#include "pkm_accuracy/io/TrajectoryFile.hpp"
 
 namespace {
 
@@ -45,7 +47,7 @@ std::string methodList() {
 }
 
 void usage(std::ostream& os) {
-  os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE] [--thresholds dx,dy,dz,rx,ry,rz]\n"
+  os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE | --trajectory FILE] [--thresholds dx,dy,dz,rx,ry,rz]\n"
         "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
         "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
         "                  [--bisection smear|width|round-robin] [--json OUT] [--yaml OUT] [--quiet] [--progress]\n"
@@ -60,6 +62,10 @@ void usage(std::ostream& os) {
         "  --workspace NAME|FILE  a workspace of the robot file's `workspaces:` map, or a workspace YAML file\n"
         "                         (keys x, y, z, roll, pitch, yaw, optional region); default: the robot file's only\n"
         "                         workspace, else the one named `paper`\n"
+        "  --trajectory FILE      verify every pose along a trajectory or motion variety instead of a workspace\n"
+        "                         (YAML: waypoints [t, x, y, z, roll, pitch, yaw] with interpolation slerp or\n"
+        "                         linear_rpy, polynomial_segments, or variety; docs/trajectories.md); the reports\n"
+        "                         add witness_t (s) and the undecided time intervals\n"
         "  --list-workspaces      print the workspaces of the robot file and exit\n"
         "  --uncertainty H        half-width (m, >= 0) of every anchor coordinate; overrides the file's\n"
         "                         anchor_uncertainty\n"
@@ -75,7 +81,8 @@ void usage(std::ostream& os) {
      << " (default: the first)\n"
         "  --bisection RULE       smear (default), width, round-robin\n"
         "  --min-width LIST       6 numbers >= 0: boxes narrower than this in every variable are not split (m, m, m,\n"
-        "                         rad, rad, rad; default 1e-5 of the workspace's width)\n"
+        "                         rad, rad, rad; default 1e-5 of the workspace's width); with --trajectory one\n"
+        "                         number per parameter (u in [0, 1]; u, v, ... for a variety)\n"
         "  --threads N            worker threads (default 0: all hardware threads)\n"
         "  --time-limit S         stop after S seconds of wall time (default 0: no limit)\n"
         "  --max-boxes N          stop after N boxes (default 0: no limit)\n"
@@ -113,10 +120,12 @@ struct Arguments {
   bool progress = false;
   std::string robot;
   std::string workspace;
+  std::string trajectory;
   std::optional<double> uncertainty;
   std::string json, yaml;
   verify::VerifierOptions options;
-  std::vector<double> min_width;  // validated against the domain's variables later
+  std::vector<double> min_width;              // validated against the domain's variables later
+  std::optional<std::string> min_width_text;  // parsed after the loop (--trajectory: once the domain is known)
 };
 
 /// 6 comma-separated numbers, one per error component (names = kComponents) or per workspace variable.
@@ -140,9 +149,10 @@ Arguments parseArguments(int argc, char** argv) {
   bool haveThresholds = false;
   std::string thresholdsText;
   // Options that take a value.
-  static const std::vector<std::string> withValue = {
-      "--robot",   "--workspace",  "--thresholds", "--mode", "--alpha",     "--uncertainty", "--method",
-      "--threads", "--time-limit", "--json",       "--yaml", "--max-boxes", "--min-width",   "--bisection"};
+  static const std::vector<std::string> withValue = {"--robot",      "--workspace",   "--thresholds", "--mode",
+                                                     "--alpha",      "--uncertainty", "--method",     "--threads",
+                                                     "--time-limit", "--json",        "--yaml",       "--max-boxes",
+                                                     "--min-width",  "--bisection",   "--trajectory"};
   static const std::vector<std::string> flags = {"--help", "-h", "--list-workspaces", "--quiet", "-q", "--progress"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -181,6 +191,9 @@ Arguments parseArguments(int argc, char** argv) {
     } else if (arg == "--workspace") {
       if (value.empty()) badArgument(arg, "expected a workspace name or file, got an empty value");
       a.workspace = value;
+    } else if (arg == "--trajectory") {
+      if (value.empty()) badArgument(arg, "expected a trajectory file, got an empty value");
+      a.trajectory = value;
     } else if (arg == "--thresholds") {
       haveThresholds = true;
       thresholdsText = value;
@@ -209,7 +222,7 @@ Arguments parseArguments(int argc, char** argv) {
     } else if (arg == "--max-boxes") {
       a.options.max_boxes = static_cast<std::size_t>(tools::parseCount(arg, value));
     } else if (arg == "--min-width") {
-      a.min_width = parseSix(arg, value, 0.0, false, kVariables, "x,y,z in m, roll,pitch,yaw in rad");
+      a.min_width_text = value;
     } else if (arg == "--bisection") {
       if (value == "smear") {
         a.options.bisection = verify::Bisection::Smear;
@@ -231,6 +244,13 @@ Arguments parseArguments(int argc, char** argv) {
   if (a.help) return a;
   if (a.robot.empty()) badArgument("--robot", "required (the robot file, e.g. config/ref6.yaml; see --help)");
   if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
+  if (!a.trajectory.empty() && !a.workspace.empty()) {
+    badArgument("--trajectory", "cannot be combined with --workspace (a run verifies a workspace or a trajectory)");
+  }
+  if (a.min_width_text && a.trajectory.empty()) {
+    a.min_width =
+        parseSix("--min-width", *a.min_width_text, 0.0, false, kVariables, "x,y,z in m, roll,pitch,yaw in rad");
+  }
   if (haveThresholds) {
     const auto t = parseSix("--thresholds", thresholdsText, 0.0, true, kComponents, "dx,dy,dz in m, rx,ry,rz in rad");
     a.options.thresholds = DVec::Zero(6);
@@ -300,6 +320,38 @@ void listWorkspaces(const io::RobotFile& robot, const std::string& path) {
     }
     std::cout << "\n";
   }
+}
+
+/// Loads --trajectory (exit 3 with the file, key and row on any problem).
+io::TrajectoryFile loadTrajectory(const std::string& path) {
+  if (!isRegularFile(path)) {
+    struct stat st;
+    badArgument("--trajectory",
+                path + (::stat(path.c_str(), &st) == 0 ? ": not a regular file" : ": cannot open file"));
+  }
+  try {
+    return io::loadTrajectoryFile(path);
+  } catch (const InvalidArgument& e) {
+    badArgument("--trajectory", e.what());
+  } catch (const std::exception& e) {
+    badArgument("--trajectory", path + ": cannot read: " + e.what());
+  }
+}
+
+/// --min-width for a trajectory or variety: one number >= 0 per parameter of the domain.
+std::vector<double> parseList(const std::string& arg, const std::string& text, const domain::Domain& d) {
+  const auto items = tools::splitList(text);
+  if (static_cast<int>(items.size()) != d.variables()) {
+    badArgument(arg, "expected " + std::to_string(d.variables()) + " comma-separated value" +
+                         (d.variables() == 1 ? "" : "s") + " (one per parameter of the trajectory), got " +
+                         std::to_string(items.size()) + " in '" + text + "'");
+  }
+  std::vector<double> v;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    v.push_back(tools::parseBounded(arg + "[" + std::to_string(k) + "] (" + d.variableName(static_cast<int>(k)) + ")",
+                                    items[k], 0.0, false));
+  }
+  return v;
 }
 
 /// Checks that an output file can be written before a possibly long run (creates it if missing, keeps contents).
@@ -412,11 +464,27 @@ int run(int argc, char** argv) {
   const model::GoughPlatform model(robot.geometry);
 
   io::RunInfo info;
-  const domain::Workspace workspace = resolveWorkspace(robot, a, info.workspace);
+  std::shared_ptr<const domain::Domain> domainPtr;
+  if (a.trajectory.empty()) {
+    auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace));
+    info.workspace_region = workspace->region().typeName();
+    domainPtr = workspace;
+  } else {
+    const io::TrajectoryFile file = loadTrajectory(a.trajectory);
+    info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
+    info.trajectory = a.trajectory;
+    info.trajectory_type = file.description;
+    info.workspace_region = file.region;
+    if (file.trajectory) {
+      info.time_start = file.trajectory->startTime();
+      info.time_end = file.trajectory->endTime();
+    }
+    domainPtr = file.domain;
+  }
+  const domain::Domain& target = *domainPtr;  // what is verified
   info.robot = a.robot;
-  info.workspace_region = workspace.region().typeName();
-  info.workspace_box = workspace.initialBox();
-  for (int i = 0; i < workspace.variables(); ++i) info.variables.push_back(workspace.variableName(i));
+  info.workspace_box = target.initialBox();
+  for (int i = 0; i < target.variables(); ++i) info.variables.push_back(target.variableName(i));
   info.components.assign(std::begin(kComponents), std::end(kComponents));
   info.units.assign(std::begin(kUnits), std::end(kUnits));
   info.anchor_uncertainty = a.uncertainty ? *a.uncertainty : 0.0;
@@ -425,15 +493,16 @@ int run(int argc, char** argv) {
   }
 
   verify::VerifierOptions& options = a.options;
+  if (a.min_width_text && !a.trajectory.empty()) a.min_width = parseList("--min-width", *a.min_width_text, target);
   if (!a.min_width.empty()) {
-    if (static_cast<int>(a.min_width.size()) != workspace.variables()) {
-      badArgument("--min-width", "expected " + std::to_string(workspace.variables()) + " values, got " +
+    if (static_cast<int>(a.min_width.size()) != target.variables()) {
+      badArgument("--min-width", "expected " + std::to_string(target.variables()) + " values, got " +
                                      std::to_string(a.min_width.size()));
     }
-    options.min_width = DVec::Zero(workspace.variables());
-    for (int i = 0; i < workspace.variables(); ++i) options.min_width[i] = a.min_width[i];
+    options.min_width = DVec::Zero(target.variables());
+    for (int i = 0; i < target.variables(); ++i) options.min_width[i] = a.min_width[i];
   }
-  verify::Verifier::validate(model, workspace, options);  // anything left: the message names the field
+  verify::Verifier::validate(model, target, options);  // anything left: the message names the field
   if (!a.json.empty()) checkWritable("--json", a.json);
   if (!a.yaml.empty()) checkWritable("--yaml", a.yaml);
 
@@ -448,7 +517,7 @@ int run(int argc, char** argv) {
   options.cancel = &g_cancel;
   installSignalHandlers();
 
-  const verify::VerifierResult result = verify::Verifier::run(model, workspace, options);
+  const verify::VerifierResult result = verify::Verifier::run(model, target, options);
   if (progress) progress->finish();
   const int code = exitCodeOf(result, options);
   info.exit_code = code;

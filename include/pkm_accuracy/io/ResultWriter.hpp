@@ -12,15 +12,21 @@
 //   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty,
 //   witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the domain's variables),
 //   witness_component (index), witness_component_name, witness_lower_bound, witness_error_lower ([6] or null),
-//   max_error: {lower: [6], upper: [6], converged, argmax: [[...] per component or null]} in max-error mode,
+//   max_error: {lower: [6], upper: [6], converged, argmax: [[...] per component or null]
+//               (trajectories: also argmax_t, the time of every argmax in s)} in max-error mode,
 //   stats: {boxes, seconds, max_depth, safe_fraction, unsafe_fraction, undecided_fraction, outside_fraction,
 //           threads},
-//   undecided_boxes: {count, recorded, listed, boxes: [[[lo, hi] x variables] ...], upper: [[6] ...]}.
+//   undecided_boxes: {count, recorded, listed, boxes: [[[lo, hi] x variables] ...], upper: [[6] ...]},
+//   domain ("workspace" | "trajectory" | "variety"), trajectory (file path or null), trajectory_type (null for a
+//   workspace), time_span ([t_0, t_N] in s, trajectories only), witness_t (the witness time in s when UNSAFE on a
+//   trajectory), undecided_t (trajectories: the recorded undecided boxes as time intervals [[t_lo, t_hi] ...], sorted
+//   and merged where they touch; [] if none).
 #pragma once
 
 #include <cstddef>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pkm_accuracy/core/Types.hpp"
@@ -43,7 +49,18 @@ struct RunInfo {
   double anchor_uncertainty = 0.0;     ///< m (half-width of every anchor coordinate)
   int exit_code = -1;                  ///< the process exit code, if known (-1: not written)
   std::size_t max_listed_boxes = 100;  ///< undecided boxes listed in the reports
+  // Trajectories and motion varieties (pkm_verify --trajectory).
+  std::string domain = "workspace";  ///< "workspace", "trajectory" or "variety"
+  std::string trajectory;            ///< trajectory / variety file path (empty for a workspace)
+  std::string trajectory_type;       ///< e.g. "waypoints (slerp), 12 waypoints"
+  /// Trajectories: the time span; the box variable u maps to t = time_start + u (time_end - time_start).
+  double time_start = 0.0, time_end = 0.0;
+  /// t(u) for a trajectory (double; clamped to the time span).
+  double timeOf(double u) const;
 };
+
+/// Trajectories: the undecided boxes of a result as time intervals, sorted and merged where they touch or overlap.
+std::vector<std::pair<double, double>> undecidedTimes(const verify::VerifierResult& result, const RunInfo& info);
 
 /// Name of a mode as on the command line: "verify", "max-error".
 std::string modeName(verify::Mode mode);

@@ -1,0 +1,312 @@
+#include "pkm_accuracy/io/TrajectoryFile.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <array>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
+#include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
+
+namespace pkm_accuracy {
+namespace io {
+namespace {
+
+const char* kPoseKeys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) { throw ParseError(where + ": " + what); }
+
+std::string show(const YAML::Node& n) {
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsSequence()) return "a list";
+  if (n.IsMap()) return "a map";
+  return "nothing";
+}
+
+/// A finite number.
+double number(const YAML::Node& n, const std::string& where) {
+  if (!n || !n.IsScalar()) fail(where, "expected a number, got " + (n ? show(n) : std::string("nothing")));
+  double v;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(where, "expected a number, got '" + n.Scalar() + "'");
+  }
+  if (!std::isfinite(v)) fail(where, "expected a finite number, got '" + n.Scalar() + "'");
+  return v;
+}
+
+std::vector<double> numbers(const YAML::Node& n, const std::string& where, std::size_t expected = 0,
+                            const std::string& shape = "") {
+  if (!n || !n.IsSequence()) {
+    fail(where, "expected a list of " + (expected ? std::to_string(expected) + " numbers" : std::string("numbers")) +
+                    shape + ", got " + (n ? show(n) : std::string("nothing")));
+  }
+  if (expected > 0 && n.size() != expected) {
+    fail(where, "expected " + std::to_string(expected) + " numbers" + shape + ", got " + std::to_string(n.size()));
+  }
+  std::vector<double> v;
+  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], where + "[" + std::to_string(i) + "]"));
+  return v;
+}
+
+int integer(const YAML::Node& n, const std::string& where, int lo, int hi) {
+  const double v = number(n, where);
+  if (v != std::floor(v) || v < lo || v > hi) {
+    std::ostringstream os;
+    os << "expected an integer from " << lo << " to " << hi << ", got '" << n.Scalar() << "'";
+    fail(where, os.str());
+  }
+  return static_cast<int>(v);
+}
+
+void checkKeys(const YAML::Node& map, const std::string& where, const std::set<std::string>& allowed) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.Scalar();
+    if (!allowed.count(key)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(!where.empty() && where.back() == ':' ? where + " " + key : where + "." + key,
+           "unknown key (expected one of " + list + ")");
+    }
+  }
+}
+
+Eigen::Vector3d vec3(const YAML::Node& n, const std::string& where) {
+  const auto v = numbers(n, where, 3);
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+Interval range(const YAML::Node& n, const std::string& where) {
+  const auto v = numbers(n, where, 2, " [min, max]");
+  if (!(v[0] <= v[1])) {
+    std::ostringstream os;
+    os << "expected a range [min, max] with min <= max, got [" << v[0] << ", " << v[1] << "]";
+    fail(where, os.str());
+  }
+  return Interval(v[0], v[1]);
+}
+
+domain::PositionRegion region(const YAML::Node& n, const std::string& where) {
+  if (!n.IsMap() || !n["type"]) fail(where, "expected a map with a 'type' key (box, cylinder, sphere, polyhedron)");
+  const std::string type = n["type"].Scalar();
+  try {
+    if (type == "box" || type == "polyhedron") {
+      checkKeys(n, where,
+                type == "box" ? std::set<std::string>{"type", "x", "y", "z"}
+                              : std::set<std::string>{"type", "x", "y", "z", "normals", "offsets"});
+      const Interval x = range(n["x"], where + ".x"), y = range(n["y"], where + ".y"), z = range(n["z"], where + ".z");
+      const Eigen::Vector3d lo(x.lower(), y.lower(), z.lower()), hi(x.upper(), y.upper(), z.upper());
+      if (type == "box") return domain::PositionRegion::box(lo, hi);
+      const YAML::Node normals = n["normals"];
+      if (!normals || !normals.IsSequence()) fail(where + ".normals", "expected a list of [nx, ny, nz]");
+      std::vector<Eigen::Vector3d> nv;
+      for (std::size_t i = 0; i < normals.size(); ++i) {
+        nv.push_back(vec3(normals[i], where + ".normals[" + std::to_string(i) + "]"));
+      }
+      return domain::PositionRegion::polyhedron(nv, numbers(n["offsets"], where + ".offsets"), lo, hi);
+    }
+    if (type == "cylinder") {
+      checkKeys(n, where, {"type", "centre", "radius", "z"});
+      const auto c = numbers(n["centre"], where + ".centre", 2, " [x, y]");
+      const Interval z = range(n["z"], where + ".z");
+      return domain::PositionRegion::cylinder(c[0], c[1], number(n["radius"], where + ".radius"), z.lower(), z.upper());
+    }
+    if (type == "sphere") {
+      checkKeys(n, where, {"type", "centre", "radius"});
+      return domain::PositionRegion::sphere(vec3(n["centre"], where + ".centre"),
+                                            number(n["radius"], where + ".radius"));
+    }
+  } catch (const ParseError&) {
+    throw;
+  } catch (const InvalidArgument& e) {
+    fail(where, e.what());
+  }
+  fail(where + ".type", "expected box, cylinder, sphere or polyhedron, got '" + type + "'");
+}
+
+std::shared_ptr<domain::WaypointTrajectory> waypoints(const YAML::Node& root, const std::string& name) {
+  const std::string where = name + ": waypoints";
+  domain::WaypointTrajectory::Interpolation interp = domain::WaypointTrajectory::Interpolation::Slerp;
+  if (const YAML::Node i = root["interpolation"]) {
+    const std::string s = i.IsScalar() ? i.Scalar() : "";
+    if (s == "slerp") {
+      interp = domain::WaypointTrajectory::Interpolation::Slerp;
+    } else if (s == "linear_rpy") {
+      interp = domain::WaypointTrajectory::Interpolation::LinearRpy;
+    } else {
+      fail(name + ": interpolation", "expected slerp or linear_rpy, got " + show(i));
+    }
+  }
+  const YAML::Node rows = root["waypoints"];
+  if (!rows.IsSequence()) fail(where, "expected a list of rows [t, x, y, z, roll, pitch, yaw], got " + show(rows));
+  if (rows.size() < 2) fail(where, "expected at least 2 waypoints, got " + std::to_string(rows.size()));
+  std::vector<domain::WaypointTrajectory::Waypoint> w;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::string row = where + "[" + std::to_string(i) + "]";
+    const auto v = numbers(rows[i], row, 7, " [t, x, y, z, roll, pitch, yaw]");
+    if (i > 0 && !(v[0] > w.back().t)) {
+      std::ostringstream os;
+      os << "time " << v[0] << " s is not greater than the previous waypoint's time " << w.back().t
+         << " s (times must increase strictly)";
+      fail(row + "[0]", os.str());
+    }
+    domain::WaypointTrajectory::Waypoint p;
+    p.t = v[0];
+    for (int k = 0; k < 6; ++k) p.pose[k] = v[k + 1];
+    w.push_back(p);
+  }
+  try {
+    return std::make_shared<domain::WaypointTrajectory>(std::move(w), interp);
+  } catch (const InvalidArgument& e) {
+    throw ParseError(name + ": " + e.what());
+  }
+}
+
+std::shared_ptr<domain::PolynomialTrajectory> polynomial(const YAML::Node& root, const std::string& name) {
+  const std::string where = name + ": polynomial_segments";
+  const YAML::Node segs = root["polynomial_segments"];
+  if (!segs.IsSequence() || segs.size() == 0) {
+    fail(where,
+         "expected a non-empty list of segments {t: [start, end], x: [...], ..., yaw: [...]}, got " + show(segs));
+  }
+  std::vector<domain::PolynomialTrajectory::Segment> out;
+  for (std::size_t k = 0; k < segs.size(); ++k) {
+    const std::string row = where + "[" + std::to_string(k) + "]";
+    const YAML::Node s = segs[k];
+    if (!s.IsMap()) fail(row, "expected a map {t: [start, end], x: [...], ..., yaw: [...]}, got " + show(s));
+    checkKeys(s, row, {"t", "x", "y", "z", "roll", "pitch", "yaw"});
+    domain::PolynomialTrajectory::Segment g;
+    const auto t = numbers(s["t"], row + ".t", 2, " [start, end]");
+    g.start = t[0];
+    g.end = t[1];
+    if (!(g.start < g.end)) {
+      std::ostringstream os;
+      os << "expected start < end, got [" << g.start << ", " << g.end << "]";
+      fail(row + ".t", os.str());
+    }
+    if (k > 0 && g.start != out.back().end) {
+      std::ostringstream os;
+      os << "expected the segment to start where the previous one ends (" << out.back().end << " s), got " << g.start
+         << " s";
+      fail(row + ".t[0]", os.str());
+    }
+    for (int i = 0; i < 6; ++i) {
+      const std::string key = row + "." + kPoseKeys[i];
+      if (!s[kPoseKeys[i]]) fail(key, "missing (coefficients of tau^0, tau^1, ... with tau = t - start)");
+      g.coefficients[i] = numbers(s[kPoseKeys[i]], key);
+      if (g.coefficients[i].empty()) fail(key, "expected at least one coefficient");
+    }
+    out.push_back(std::move(g));
+  }
+  try {
+    return std::make_shared<domain::PolynomialTrajectory>(std::move(out));
+  } catch (const InvalidArgument& e) {
+    throw ParseError(name + ": " + e.what());
+  }
+}
+
+std::shared_ptr<domain::ParametricVariety> variety(const YAML::Node& root, const std::string& name) {
+  const std::string where = name + ": variety";
+  const YAML::Node v = root["variety"];
+  if (!v.IsMap()) fail(where, "expected a map {parameters: m, x: [[c, e1, .., em], ...], ...}, got " + show(v));
+  checkKeys(v, where, {"parameters", "x", "y", "z", "roll", "pitch", "yaw"});
+  const int m = integer(v["parameters"], where + ".parameters", 1, kMaxDof);
+  std::array<std::vector<domain::ParametricVariety::Monomial>, 6> coords;
+  for (int i = 0; i < 6; ++i) {
+    const std::string key = where + "." + kPoseKeys[i];
+    const YAML::Node list = v[kPoseKeys[i]];
+    if (!list) continue;  // the constant 0
+    if (!list.IsSequence()) fail(key, "expected a list of monomials [coefficient, exponents...], got " + show(list));
+    for (std::size_t j = 0; j < list.size(); ++j) {
+      const std::string row = key + "[" + std::to_string(j) + "]";
+      const auto r =
+          numbers(list[j], row, static_cast<std::size_t>(m + 1), " [coefficient, " + std::to_string(m) + " exponents]");
+      domain::ParametricVariety::Monomial mono;
+      mono.coefficient = r[0];
+      for (int e = 0; e < m; ++e) {
+        if (r[e + 1] != std::floor(r[e + 1]) || r[e + 1] < 0 || r[e + 1] > domain::ParametricVariety::kMaxExponent) {
+          std::ostringstream os;
+          os << "expected an integer exponent from 0 to " << domain::ParametricVariety::kMaxExponent << ", got "
+             << r[e + 1];
+          fail(row + "[" + std::to_string(e + 1) + "]", os.str());
+        }
+        mono.exponents[e] = static_cast<int>(r[e + 1]);
+      }
+      coords[i].push_back(mono);
+    }
+  }
+  try {
+    return std::make_shared<domain::ParametricVariety>(m, std::move(coords));
+  } catch (const InvalidArgument& e) {
+    throw ParseError(name + ": " + e.what());
+  }
+}
+
+TrajectoryFile build(const YAML::Node& root, const std::string& name) {
+  if (!root.IsMap()) fail(name, "expected a YAML map at top level (waypoints, polynomial_segments or variety)");
+  checkKeys(root, name + ":", {"interpolation", "waypoints", "polynomial_segments", "variety", "region"});
+  const int kinds = (root["waypoints"] ? 1 : 0) + (root["polynomial_segments"] ? 1 : 0) + (root["variety"] ? 1 : 0);
+  if (kinds != 1) {
+    fail(name, std::string(kinds == 0 ? "expected one of" : "expected exactly one of") +
+                   " the keys waypoints, polynomial_segments, variety");
+  }
+  if (root["interpolation"] && !root["waypoints"]) fail(name + ": interpolation", "only applies to waypoints");
+  TrajectoryFile f;
+  std::optional<domain::PositionRegion> reg;
+  if (root["region"]) reg = region(root["region"], name + ": region");
+  f.region = reg ? reg->typeName() : "none";
+  if (root["variety"]) {
+    auto v = variety(root, name);
+    if (reg) v->setRegion(*reg);
+    f.kind = TrajectoryFile::Kind::Variety;
+    f.description = v->description();
+    f.variety = v;
+    f.domain = v;
+    return f;
+  }
+  std::shared_ptr<domain::PiecewiseTrajectory> t;
+  if (root["waypoints"]) {
+    t = waypoints(root, name);
+    f.kind = TrajectoryFile::Kind::Waypoints;
+  } else {
+    t = polynomial(root, name);
+    f.kind = TrajectoryFile::Kind::Polynomial;
+  }
+  if (reg) t->setRegion(*reg);
+  f.description = t->description();
+  f.trajectory = t;
+  f.domain = t;
+  return f;
+}
+
+}  // namespace
+
+TrajectoryFile parseTrajectory(const std::string& yamlText, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yamlText);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(name + ": invalid YAML: " + e.what());
+  }
+  return build(root, name);
+}
+
+TrajectoryFile loadTrajectoryFile(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw ParseError(path + ": cannot open file");
+  } catch (const YAML::Exception& e) {
+    throw ParseError(path + ": invalid YAML: " + e.what());
+  }
+  return build(root, path);
+}
+
+}  // namespace io
+}  // namespace pkm_accuracy
