@@ -1,0 +1,108 @@
+// Certified accuracy along a 100-waypoint trajectory inside the reference robot's `paper` workspace (x, y in
+// [-0.15, 0.15] m, z in [0.45, 0.50] m, angles in [-15, 15] deg): thresholds 5% above the maxima sampled at 10^5
+// times (plus every waypoint); prints the verdict, boxes and seconds (median of `repeats` runs) per interpolation,
+// enclosure method and thread count. Target (issue "Trajectories"): <= 100 ms.
+// Usage: trajectory_bench [repeats] (default 5).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <vector>
+
+#include "BenchCommon.hpp"
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
+#include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/model/GoughPlatform.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+#include "pkm_accuracy/io/RobotFile.hpp"
+
+using namespace pkm_accuracy;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// 100 waypoints, 0.1 s apart, on a smooth Lissajous-like path that fills the paper workspace, with a small random
+/// jitter (fixed seed); every coordinate stays inside its range.
+std::vector<domain::WaypointTrajectory::Waypoint> paperWaypoints(int n) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> jitter(-1.0, 1.0);
+  const double a = 0.2617993877991494;  // 15 deg
+  std::vector<domain::WaypointTrajectory::Waypoint> w;
+  for (int i = 0; i < n; ++i) {
+    const double s = static_cast<double>(i) / (n - 1);
+    domain::WaypointTrajectory::Waypoint p;
+    p.t = 0.1 * i;
+    const double raw[6] = {0.13 * std::sin(2 * kPi * 3 * s) + 0.01 * jitter(rng),
+                           0.13 * std::sin(2 * kPi * 2 * s + 0.5) + 0.01 * jitter(rng),
+                           0.475 + 0.02 * std::sin(2 * kPi * 5 * s) + 0.002 * jitter(rng),
+                           0.85 * a * std::sin(2 * kPi * 4 * s) + 0.1 * a * jitter(rng),
+                           0.85 * a * std::cos(2 * kPi * 3 * s) + 0.1 * a * jitter(rng),
+                           0.85 * a * std::sin(2 * kPi * 1 * s + 1.0) + 0.1 * a * jitter(rng)};
+    const double lo[6] = {-0.15, -0.15, 0.45, -a, -a, -a}, hi[6] = {0.15, 0.15, 0.50, a, a, a};
+    for (int k = 0; k < 6; ++k) p.pose[k] = std::min(std::max(raw[k], lo[k]), hi[k]);
+    w.push_back(p);
+  }
+  return w;
+}
+
+DVec sampledMax(const model::RobotModel& robot, const domain::PiecewiseTrajectory& traj, int samples) {
+  DVec best = DVec::Zero(6);
+  auto account = [&](double t) {
+    const DVec f = robot.worstErrorAt(traj.pointAtTime(t).pose);
+    best = best.cwiseMax(f);
+  };
+  for (int i = 0; i < samples; ++i) account(traj.startTime() + (traj.endTime() - traj.startTime()) * i / (samples - 1));
+  for (double t : traj.times()) account(t);
+  return best;
+}
+
+void scenario(const char* name, const model::RobotModel& robot, const domain::PiecewiseTrajectory& traj,
+              const DVec& thresholds, const std::string& method, int threads, int repeats) {
+  verify::VerifierOptions o;
+  o.thresholds = thresholds;
+  o.method = method;
+  o.threads = threads;
+  o.time_limit_s = 60.0;
+  std::vector<double> seconds;
+  verify::VerifierResult r;
+  for (int i = 0; i < repeats; ++i) {
+    r = verify::Verifier::run(robot, traj, o);
+    seconds.push_back(r.stats.seconds);
+  }
+  std::sort(seconds.begin(), seconds.end());
+  std::printf("%-34s %-13s %3d %-10s %8zu %12.4f %12.4f %8.1f\n", name, method.c_str(), r.stats.threads,
+              verify::toString(r.verdict).c_str(), r.stats.boxes, seconds[seconds.size() / 2], seconds.front(),
+              1e6 * seconds[seconds.size() / 2] / std::max<std::size_t>(1, r.stats.boxes));
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
+  const io::RobotFile ref = io::loadRobotFile(bench::sourceDir() + "/config/ref6.yaml");
+  const model::GoughPlatform robot(ref.geometry);
+  const auto w = paperWaypoints(100);
+  const domain::WaypointTrajectory slerp(w, domain::WaypointTrajectory::Interpolation::Slerp);
+  const domain::WaypointTrajectory linear(w, domain::WaypointTrajectory::Interpolation::LinearRpy);
+
+  std::printf(
+      "100 waypoints over %.1f s inside `paper`; thresholds = 1.05 x maxima sampled at 1e5 times + waypoints; "
+      "median of %d runs\n",
+      slerp.endTime(), repeats);
+  std::printf("%-34s %-13s %3s %-10s %8s %12s %12s %8s\n", "trajectory", "method", "thr", "verdict", "boxes",
+              "median s", "best s", "us/box");
+  for (const auto* t : {&slerp, &linear}) {
+    const char* name = t == &slerp ? "100 waypoints, slerp, +5%" : "100 waypoints, linear_rpy, +5%";
+    const DVec max = sampledMax(robot, *t, 100000);
+    for (const std::string& method : {std::string("second_order"), std::string("mean_value")}) {
+      for (int threads : {1, 2}) scenario(name, robot, *t, max * 1.05, method, threads, repeats);
+    }
+  }
+  return 0;
+}
