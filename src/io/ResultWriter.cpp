@@ -548,11 +548,12 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
       if (!maxError && r.witness_error_lower.size() == n) os << num(r.witness_error_lower[k], 10);
       os << "\n";
     }
-    if (maxError) os << "  (max: the largest worst-case error over the workspace; certified bracket [lower, upper])\n";
+    if (maxError)
+      os << "  (max: the largest worst-case error over the " << info.domain << "; certified bracket [lower, upper])\n";
     os << "\n";
   }
   if (r.verdict == verify::Verdict::Safe && o.mode == verify::Mode::Verify) {
-    os << "every component is certified below its threshold at every pose of the workspace\n";
+    os << "every component is certified below its threshold at every pose of the " << info.domain << "\n";
   }
 
   const auto& s = r.stats;
