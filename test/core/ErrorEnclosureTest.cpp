@@ -253,3 +253,43 @@ TEST(ErrorEnclosure, MeanValueIsTighterThanPlainPreconditioningOnSmallBoxes) {
   ASSERT_TRUE(mv.bounded());
   for (int k = 0; k < 6; ++k) EXPECT_LT(mv.upper[k], pc.upper[k]) << k;
 }
+
+TEST(ErrorEnclosure, ErrorGradientContainsFiniteDifferencesOfTheWorstError) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  std::mt19937_64 rng(8);
+  int checked = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const DVec c = test::randomPoint(ws.initialBox(), rng);
+    IVec box(6);
+    const double frac = std::pow(0.5, 4 + trial % 5);
+    for (int i = 0; i < 6; ++i) {
+      const double h = frac * 0.5 * (ws.initialBox()[i].upper() - ws.initialBox()[i].lower());
+      box[i] = Interval(c[i] - h, c[i] + h);
+    }
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::ErrorBounds b;
+    enclosure::makeEnclosure("second_order")->enclose(robot, in, b);
+    for (int k = 0; k < 6; ++k) {
+      IVec g;
+      if (!enclosure::errorGradient(b, robot.sensorError(), k, g)) continue;
+      for (int s = 0; s < 3; ++s) {
+        const DVec q = test::randomPoint(box, rng);
+        for (int i = 0; i < 6; ++i) {
+          const double h = 1e-7 * (1.0 + std::abs(q[i]));
+          DVec qp = q, qm = q;
+          qp[i] += h;
+          qm[i] -= h;
+          const double fd = (robot.worstErrorAt(qp)[k] - robot.worstErrorAt(qm)[k]) / (2 * h);
+          const double slack = 1e-6 * std::abs(fd) + 1e-12;
+          EXPECT_LE(g[i].lower() - slack, fd) << "k=" << k << " i=" << i << " trial " << trial;
+          EXPECT_GE(g[i].upper() + slack, fd) << "k=" << k << " i=" << i << " trial " << trial;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 5000);
+}

@@ -252,3 +252,22 @@ TEST(Verifier, FindsWitnessInARegionWhoseBoundingBoxCentreIsOutside) {
     EXPECT_LT(r.stats.seconds, 5.0);
   }
 }
+
+TEST(Verifier, DerivativeStepKeepsVerdictsAndBrackets) {
+  SubWorkspace s(1.0 / 16.0);
+  const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 20000, 12);
+  verify::VerifierOptions o;
+  o.monotonicity = true;
+  o.thresholds = maxima * 1.10;
+  EXPECT_EQ(verify::Verifier::run(s.robot, s.ws, o).verdict, Verdict::Safe);
+  o.thresholds = maxima * 0.95;
+  const auto unsafe = verify::Verifier::run(s.robot, s.ws, o);
+  ASSERT_EQ(unsafe.verdict, Verdict::Unsafe);
+  EXPECT_GT(s.robot.worstErrorAt(unsafe.witness)[unsafe.witness_component], o.thresholds[unsafe.witness_component]);
+  o.mode = verify::Mode::MaxError;
+  o.thresholds.resize(0);
+  o.alpha = 0.05;
+  const auto r = verify::Verifier::run(s.robot, s.ws, o);
+  ASSERT_TRUE(r.converged);
+  for (int k = 0; k < 6; ++k) EXPECT_GE(r.max_upper[k], maxima[k]) << k;
+}

@@ -34,6 +34,35 @@ IVec errorFromJacobian(const IMat& jacobian, const std::vector<double>& sensorEr
   return f;
 }
 
+bool errorGradient(const ErrorBounds& bounds, const std::vector<double>& sensorError, int k, IVec& gradient) {
+  const EnclosureInternals& in = bounds.internals;
+  if (!in.valid) return false;
+  const int n = static_cast<int>(in.inverse.rows());
+  // v = C w_k as an interval vector (the rounding of C w_k is enclosed).
+  IVec v = IVec::Constant(n, Interval(0.0));
+  for (int j = 0; j < n; ++j) {
+    const Interval& jkj = in.jacobian(k, j);
+    const double sign = jkj.lower() > 0.0 ? 1.0 : (jkj.upper() < 0.0 ? -1.0 : 0.0);
+    if (sign == 0.0) return false;
+    const Interval w(sign * sensorError[j]);
+    for (int l = 0; l < n; ++l) v[l] += Interval(in.c(l, j)) * w;
+  }
+  IVec u = IVec::Constant(n, Interval(0.0));  // N v
+  for (int r = 0; r < n; ++r)
+    for (int l = 0; l < n; ++l) u[r] += in.inverse(r, l) * v[l];
+  gradient.resize(in.variables);
+  for (int i = 0; i < in.variables; ++i) {
+    Interval g(0.0);
+    for (int r = 0; r < n; ++r) {
+      Interval y(0.0);  // (D_i u)_r
+      for (int l = 0; l < n; ++l) y += in.d[i](r, l) * u[l];
+      g += in.inverse(k, r) * y;
+    }
+    gradient[i] = -g;
+  }
+  return true;
+}
+
 bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f) {
   const IMat m = model.inverseJacobian(pose);
   DMat c;

@@ -13,6 +13,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   const int n = model.dof();
   const int vars = box.variables;
   out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
+  out.internals.valid = false;
   out.lower = DVec::Zero(n);
   out.splitScore = DVec::Constant(vars, 1.0);
 
@@ -56,6 +57,12 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
     out.upper[k] = f[k].upper();
     out.lower[k] = f[k].lower();
   }
+  out.internals.valid = true;
+  out.internals.variables = vars;
+  out.internals.c = c;
+  out.internals.inverse = inv;
+  out.internals.d = cds;
+  out.internals.jacobian = jac;
   if (!secondOrder_) return;
 
   // Second-order form of f_k itself. With E(t) = C J^-1(t) - I, N = (I + E)^-1 = I - E + E^2 N, and the mean-value

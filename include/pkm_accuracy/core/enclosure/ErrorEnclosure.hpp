@@ -6,6 +6,7 @@
 // Certified lower bounds come from errorAtPose() at single poses.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,12 +28,29 @@ struct BoxInput {
   bool hasGradient = false;  ///< dualPose is filled
 };
 
+/// Intermediate enclosures of the preconditioned methods, kept so that derivative information (monotonicity) can
+/// be computed on demand for the boxes that need it.
+struct EnclosureInternals {
+  bool valid = false;
+  int variables = 0;
+  DMat c;                       ///< the preconditioner (point)
+  IMat inverse;                 ///< N = (C J^-1)^-1 over the box
+  std::array<IMat, kMaxDof> d;  ///< C dJ^-1/dt_i over the box
+  IMat jacobian;                ///< J = N C over the box
+};
+
 struct ErrorBounds {
   DVec upper;       ///< per component: certified upper bound of f_k over the box (+inf if unbounded)
   DVec lower;       ///< per component: certified lower bound of min f_k over the box (0 if not computed)
   DVec splitScore;  ///< per box variable: estimated share of the overestimation (bisection hint); may be empty
   bool bounded() const { return upper.size() > 0 && upper.allFinite(); }
+  EnclosureInternals internals;  ///< filled by the mean-value methods
 };
+
+/// Enclosure of the gradient of f_k with respect to the box variables over the box, from the internals of a
+/// mean-value enclosure: d f_k / d t_i = -(row k of N) (C dJ^-1/dt_i) (N C w_k), w_kj = sign(J_kj) e_j.
+/// @return false if the internals are missing or some J_kj may change sign on the box (f_k not differentiable).
+bool errorGradient(const ErrorBounds& bounds, const std::vector<double>& sensorError, int k, IVec& gradient);
 
 class ErrorEnclosure {
  public:

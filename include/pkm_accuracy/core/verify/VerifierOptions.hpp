@@ -56,6 +56,11 @@ struct VerifierOptions {
   std::size_t max_recorded_boxes = 1000;
   /// Points per variable of the initial sampling grid (witness search / first lower bounds); 0 disables it.
   int presample_points = 3;
+  /// Derivatives of the error functions (seed paper section 4.2, monotonicity, plus the mean-value form of f_k):
+  /// for boxes inside the domain that their enclosure does not decide, bound max f_k by a certified evaluation at
+  /// the point where the monotone variables are at their maximising ends, plus |d f_k / d t_i| x reach for the
+  /// others.
+  bool monotonicity = false;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
 };

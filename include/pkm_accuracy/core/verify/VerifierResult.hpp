@@ -27,6 +27,7 @@ struct Statistics {
   double undecided_fraction = 0.0;
   double outside_fraction = 0.0;
   int threads = 1;
+  std::size_t monotonicity_hits = 0;  ///< component bounds tightened by the derivative (monotonicity) step
 };
 
 struct Progress {
