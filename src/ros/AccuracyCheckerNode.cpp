@@ -6,13 +6,18 @@
 #include <sstream>
 #include <vector>
 
+#include <actionlib_msgs/GoalStatus.h>
 #include <geometry_msgs/TransformStamped.h>
+#include <tf2/exceptions.h>
 #include <urdf/model.h>
+#include <visualization_msgs/MarkerArray.h>
+#include <Eigen/Geometry>
 
 #include "pkm_accuracy/Progress.h"
 #include "pkm_accuracy/VerificationResult.h"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/ros/BoxMarkers.hpp"
 #include "pkm_accuracy/ros/VerifyWorkspaceConversion.hpp"
 
 namespace pkm_accuracy {
@@ -40,6 +45,28 @@ const char* modeName(QueryMode m) {
                                   : VerifyWorkspace::Request::MODE_VERIFY.c_str();
 }
 
+std::string seconds(double s) {
+  std::ostringstream os;
+  os << s;
+  return os.str();
+}
+
+void toFeedback(const Progress& p, VerifyWorkspaceFeedback& f) {
+  f.job_id = p.job_id;
+  f.mode = p.mode;
+  f.boxes = p.boxes;
+  f.max_depth = p.max_depth;
+  f.threads = p.threads;
+  f.seconds = p.seconds;
+  f.time_budget = p.time_budget;
+  f.safe_fraction = p.safe_fraction;
+  f.unsafe_fraction = p.unsafe_fraction;
+  f.undecided_fraction = p.undecided_fraction;
+  f.outside_fraction = p.outside_fraction;
+  f.lower = p.lower;
+  f.upper = p.upper;
+}
+
 void fillProgressStats(const verify::Statistics& s, Progress& msg) {
   msg.boxes = s.boxes;
   msg.max_depth = static_cast<std::uint32_t>(std::max(0, s.max_depth));
@@ -62,7 +89,11 @@ AccuracyCheckerNode::~AccuracyCheckerNode() {
     shutting_down_ = true;
     for (auto& j : jobs_) j.second->cancel = true;
   }
+  // Service jobs and goal callbacks return (no new goal thread can start after this), then the goals' threads end
+  // (cancelled jobs; at most ~tf_timeout in a tf2 lookup) before the action server goes.
   if (verify_spinner_) verify_spinner_->stop();
+  reapActionThreads(true);
+  action_server_.reset();
   verify_workspace_srv_.shutdown();
   cancel_srv_.shutdown();
   describe_srv_.shutdown();
@@ -128,6 +159,14 @@ void AccuracyCheckerNode::readDefaults() {
     defaults_.method = builtin.method;
   }
 
+  tf_timeout_s_ = read("tf_timeout", 1.0, true);
+  max_box_markers_ = pnh_.param("max_box_markers", 500);
+  if (max_box_markers_ < 0) {
+    ROS_WARN("%s: expected an integer >= 0, got %d; using 500", pnh_.resolveName("max_box_markers").c_str(),
+             max_box_markers_);
+    max_box_markers_ = 500;
+  }
+
   max_parallel_jobs_ = pnh_.param("max_parallel_jobs", 1);
   if (max_parallel_jobs_ < 1 || max_parallel_jobs_ > 64) {
     ROS_WARN("%s: expected an integer from 1 to 64, got %d; using 1", pnh_.resolveName("max_parallel_jobs").c_str(),
@@ -148,8 +187,11 @@ bool AccuracyCheckerNode::start(std::string& error) {
   ROS_INFO("Loaded robot from %s: %s", source_ == "yaml" ? ("parameters in " + pnh_.getNamespace()).c_str() : "URDF",
            robot_.summary().c_str());
 
+  tf_buffer_.reset(new tf2_ros::Buffer());
+  tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh_, /*spin_thread=*/true));
   verdict_pub_ = pnh_.advertise<VerificationResult>("verdict", 1, /*latch=*/true);
   progress_pub_ = pnh_.advertise<Progress>("progress", 10);
+  boxes_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("boxes", 1, /*latch=*/true);
   describe_srv_ = pnh_.advertiseService("describe", &AccuracyCheckerNode::onDescribe, this);
   cancel_srv_ = pnh_.advertiseService("cancel", &AccuracyCheckerNode::onCancel, this);
 
@@ -157,13 +199,21 @@ bool AccuracyCheckerNode::start(std::string& error) {
   verify_nh.setCallbackQueue(&verify_queue_);
   verify_workspace_srv_ =
       verify_nh.advertiseService(kVerifyWorkspaceService, &AccuracyCheckerNode::onVerifyWorkspace, this);
+  ros::NodeHandle action_nh(pnh_);
+  action_nh.setCallbackQueue(&verify_queue_);
+  action_server_.reset(new ActionServer(
+      action_nh, kVerifyWorkspaceAction, [this](GoalHandle gh) { onGoal(gh); },
+      [this](GoalHandle gh) { onGoalCancel(gh); }, /*auto_start=*/false));
+  action_server_->start();
   verify_spinner_.reset(new ros::AsyncSpinner(static_cast<std::uint32_t>(max_parallel_jobs_ + 1), &verify_queue_));
   verify_spinner_->start();
 
   if (pnh_.param("publish_anchor_frames", true)) publishAnchorFrames();
-  ROS_INFO("Services: %s, %s, %s; topics: %s, %s (at most %d job(s) at once)", describe_srv_.getService().c_str(),
-           cancel_srv_.getService().c_str(), verify_workspace_srv_.getService().c_str(),
-           verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(), max_parallel_jobs_);
+  ROS_INFO("Services: %s, %s, %s; action: %s; topics: %s, %s, %s (at most %d job(s) at once)",
+           describe_srv_.getService().c_str(), cancel_srv_.getService().c_str(),
+           verify_workspace_srv_.getService().c_str(), pnh_.resolveName(kVerifyWorkspaceAction).c_str(),
+           verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(),
+           max_parallel_jobs_);
   return true;
 }
 
@@ -214,7 +264,8 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
   return true;
 }
 
-std::shared_ptr<AccuracyCheckerNode::Job> AccuracyCheckerNode::admit(WorkspaceOutcome& refusal) {
+std::shared_ptr<AccuracyCheckerNode::Job> AccuracyCheckerNode::admit(WorkspaceOutcome& refusal,
+                                                                     const std::string& goal_id) {
   std::lock_guard<std::mutex> lock(jobs_mutex_);
   if (shutting_down_) {
     refusal.message = "the node is shutting down";
@@ -226,7 +277,10 @@ std::shared_ptr<AccuracyCheckerNode::Job> AccuracyCheckerNode::admit(WorkspaceOu
     os << "busy: " << jobs_.size() << " verification job(s) running (~max_parallel_jobs = " << max_parallel_jobs_
        << "):";
     const ros::WallTime now = ros::WallTime::now();
-    for (const auto& j : jobs_) os << " job " << j.first << " for " << (now - j.second->started).toSec() << " s;";
+    for (const auto& j : jobs_) {
+      os << " job " << j.first << (j.second->goal_id.empty() ? "" : " (action goal)") << " for "
+         << (now - j.second->started).toSec() << " s;";
+    }
     os << " retry later, or stop them with " << pnh_.resolveName("cancel");
     refusal.busy = true;
     refusal.message = os.str();
@@ -234,6 +288,7 @@ std::shared_ptr<AccuracyCheckerNode::Job> AccuracyCheckerNode::admit(WorkspaceOu
   }
   auto job = std::make_shared<Job>();
   job->id = ++last_job_id_;
+  job->goal_id = goal_id;
   job->started = ros::WallTime::now();
   jobs_[job->id] = job;
   return job;
@@ -244,68 +299,88 @@ void AccuracyCheckerNode::finish(const std::shared_ptr<Job>& job) {
   jobs_.erase(job->id);
 }
 
-bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, VerifyWorkspace::Response& res) {
-  std::shared_ptr<Job> job;
+bool AccuracyCheckerNode::resolveFrame(WorkspaceQuery& query, std::string& error) {
+  query.has_transform = false;
+  if (query.frame_id.empty()) return true;
+  geometry_msgs::TransformStamped t;
   try {
-    res = VerifyWorkspace::Response();
-    WorkspaceQuery query;
-    std::string error;
-    if (!fromRequest(req, names_.base_link, defaults_, query, error)) {
-      res.message = "invalid request: " + error;
-      ROS_WARN("%s: %s", kVerifyWorkspaceService, res.message.c_str());
-      return true;
-    }
-    WorkspaceOutcome outcome;
-    job = admit(outcome);
-    if (!job) {
-      toResponse(outcome, res);
-      ROS_WARN("%s: %s", kVerifyWorkspaceService, res.message.c_str());
-      return true;
-    }
-    const std::uint64_t id = job->id;
+    t = tf_buffer_->lookupTransform(names_.base_link, query.frame_id, ros::Time(0), ros::Duration(tf_timeout_s_));
+  } catch (const tf2::TransformException& e) {
+    error = "frame_id: no transform from frame \"" + query.frame_id + "\" to the base frame \"" + names_.base_link +
+            "\" within " + seconds(tf_timeout_s_) + " s (~tf_timeout); tf2 says: " + e.what();
+    return false;
+  }
+  const auto& r = t.transform.rotation;
+  const auto& p = t.transform.translation;
+  const Eigen::Quaterniond q(r.w, r.x, r.y, r.z);
+  const Eigen::Vector3d translation(p.x, p.y, p.z);
+  if (!q.coeffs().allFinite() || q.norm() == 0.0 || !translation.allFinite()) {
+    error = "frame_id: the transform from frame \"" + query.frame_id + "\" to \"" + names_.base_link +
+            "\" in tf2 is not finite or has a zero quaternion";
+    return false;
+  }
+  query.rotation = q.normalized().toRotationMatrix();
+  query.translation = translation;
+  query.has_transform = true;
+  return true;
+}
+
+WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, WorkspaceQuery query,
+                                             const std::string& via,
+                                             const std::function<void(const Progress&)>& feedback) {
+  const std::uint64_t id = job->id;
+  WorkspaceOutcome outcome;
+  try {
     const std::string mode = modeName(query.mode);
-    ROS_INFO("%s: job %lu started (%s, %s region)", kVerifyWorkspaceService, static_cast<unsigned long>(id),
-             mode.c_str(), toString(query.workspace.position.type).c_str());
+    const std::string frame = query.frame_id.empty() ? names_.base_link : query.frame_id;
+    ROS_INFO("%s: job %lu started (%s, %s region in frame %s)", via.c_str(), static_cast<unsigned long>(id),
+             mode.c_str(), toString(query.workspace.position.type).c_str(), frame.c_str());
 
-    JobHooks hooks;
-    hooks.cancel = &job->cancel;
-    if (progress_period_s_ > 0.0) {
-      hooks.progress_period_s = progress_period_s_;
-      hooks.progress = [this, id, mode, &query](const verify::Progress& p) {
-        Progress msg;
-        msg.header.stamp = ros::Time::now();
-        msg.header.frame_id = names_.base_link;
-        msg.job_id = id;
-        msg.mode = mode;
-        msg.time_budget = query.time_budget;
-        fillProgressStats(p.stats, msg);
-        for (int k = 0; k < p.lower.size(); ++k) msg.lower.push_back(p.lower[k]);
-        for (int k = 0; k < p.upper.size(); ++k) msg.upper.push_back(p.upper[k]);
-        progress_pub_.publish(msg);
-      };
-    }
-
-    try {
-      outcome = verifyWorkspace(*model_, query, hooks);
-    } catch (const InvalidArgument& e) {
-      outcome = WorkspaceOutcome();
-      outcome.message = std::string("invalid request: ") + e.what();
-    } catch (const std::exception& e) {
-      outcome = WorkspaceOutcome();
-      outcome.message = std::string("verification failed: ") + e.what();
+    std::string error;
+    if (!resolveFrame(query, error)) {
+      outcome.message = error;
+    } else {
+      JobHooks hooks;
+      hooks.cancel = &job->cancel;
+      const bool publish_progress = progress_period_s_ > 0.0;
+      if (publish_progress || feedback) {
+        hooks.progress_period_s = publish_progress ? progress_period_s_ : 0.5;
+        hooks.progress = [this, id, mode, &query, publish_progress, &feedback](const verify::Progress& p) {
+          Progress msg;
+          msg.header.stamp = ros::Time::now();
+          msg.header.frame_id = names_.base_link;
+          msg.job_id = id;
+          msg.mode = mode;
+          msg.time_budget = query.time_budget;
+          fillProgressStats(p.stats, msg);
+          for (int k = 0; k < p.lower.size(); ++k) msg.lower.push_back(p.lower[k]);
+          for (int k = 0; k < p.upper.size(); ++k) msg.upper.push_back(p.upper[k]);
+          if (publish_progress) progress_pub_.publish(msg);
+          if (feedback) feedback(msg);
+        };
+      }
+      try {
+        outcome = verifyWorkspace(*model_, query, hooks);
+      } catch (const InvalidArgument& e) {
+        outcome = WorkspaceOutcome();
+        outcome.message = std::string("invalid request: ") + e.what();
+      } catch (const std::exception& e) {
+        outcome = WorkspaceOutcome();
+        outcome.message = std::string("verification failed: ") + e.what();
+      }
     }
     outcome.job_id = id;
-    toResponse(outcome, res);
 
-    // ~verdict (latched) after every job, and a last ~progress with the final statistics.
+    // ~verdict (latched) after every job, a last ~progress with the final statistics, ~boxes.
     VerificationResult result;
     result.header.stamp = ros::Time::now();
-    result.header.frame_id = names_.base_link;
+    result.header.frame_id = frame;
     toResultMessage(query, toVerifierOptions(query).method, outcome, result);
     verdict_pub_.publish(result);
     if (progress_period_s_ > 0.0 && outcome.success) {
       Progress last;
-      last.header = result.header;
+      last.header.stamp = result.header.stamp;
+      last.header.frame_id = names_.base_link;
       last.job_id = id;
       last.mode = mode;
       last.time_budget = query.time_budget;
@@ -323,26 +398,54 @@ bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, Verif
       }
       progress_pub_.publish(last);
     }
-    finish(job);
     if (outcome.success) {
-      ROS_INFO("%s: job %lu: %s%s%s in %.3f s, %lu boxes: %s", kVerifyWorkspaceService, static_cast<unsigned long>(id),
+      boxes_pub_.publish(makeJobMarkers(query, outcome, names_.base_link, result.header.stamp,
+                                        static_cast<std::size_t>(max_box_markers_)));
+      ROS_INFO("%s: job %lu: %s%s%s in %.3f s, %lu boxes: %s", via.c_str(), static_cast<unsigned long>(id),
                outcome.verdict.c_str(), outcome.reason.empty() ? "" : " ", outcome.reason.c_str(), outcome.seconds,
                static_cast<unsigned long>(outcome.boxes), outcome.message.c_str());
     } else {
-      ROS_WARN("%s: job %lu: %s", kVerifyWorkspaceService, static_cast<unsigned long>(id), outcome.message.c_str());
+      ROS_WARN("%s: job %lu: %s", via.c_str(), static_cast<unsigned long>(id), outcome.message.c_str());
     }
   } catch (const std::exception& e) {
-    if (job) finish(job);
-    const std::uint64_t id = job ? job->id : 0;
+    outcome = WorkspaceOutcome();
+    outcome.job_id = id;
+    outcome.message = std::string("verification failed: ") + e.what();
+    ROS_ERROR("%s: %s", via.c_str(), outcome.message.c_str());
+  } catch (...) {
+    outcome = WorkspaceOutcome();
+    outcome.job_id = id;
+    outcome.message = "verification failed: unknown exception";
+    ROS_ERROR("%s: %s", via.c_str(), outcome.message.c_str());
+  }
+  finish(job);
+  return outcome;
+}
+
+bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, VerifyWorkspace::Response& res) {
+  try {
     res = VerifyWorkspace::Response();
-    res.job_id = id;
+    WorkspaceQuery query;
+    std::string error;
+    if (!fromRequest(req, names_.base_link, defaults_, query, error)) {
+      res.message = "invalid request: " + error;
+      ROS_WARN("%s: %s", kVerifyWorkspaceService, res.message.c_str());
+      return true;
+    }
+    WorkspaceOutcome outcome;
+    const std::shared_ptr<Job> job = admit(outcome);
+    if (!job) {
+      toResponse(outcome, res);
+      ROS_WARN("%s: %s", kVerifyWorkspaceService, res.message.c_str());
+      return true;
+    }
+    toResponse(runJob(job, query, kVerifyWorkspaceService, nullptr), res);
+  } catch (const std::exception& e) {
+    res = VerifyWorkspace::Response();
     res.message = std::string("verification failed: ") + e.what();
     ROS_ERROR("%s: %s", kVerifyWorkspaceService, res.message.c_str());
   } catch (...) {
-    if (job) finish(job);
-    const std::uint64_t id = job ? job->id : 0;
     res = VerifyWorkspace::Response();
-    res.job_id = id;
     res.message = "verification failed: unknown exception";
     ROS_ERROR("%s: %s", kVerifyWorkspaceService, res.message.c_str());
   }
@@ -369,6 +472,102 @@ bool AccuracyCheckerNode::onCancel(Cancel::Request& req, Cancel::Response& res) 
     res.message = req.job_id == 0 ? "no job is running" : "job " + std::to_string(req.job_id) + " is not running";
   }
   return true;
+}
+
+void AccuracyCheckerNode::onGoal(GoalHandle gh) {
+  const std::string via = pnh_.resolveName(kVerifyWorkspaceAction);
+  VerifyWorkspaceResult result;
+  try {
+    WorkspaceQuery query;
+    std::string error;
+    if (!fromRequest(toRequest(*gh.getGoal()), names_.base_link, defaults_, query, error)) {
+      result.message = "invalid request: " + error;
+      ROS_WARN("%s: goal rejected: %s", via.c_str(), result.message.c_str());
+      gh.setRejected(result, result.message);
+      return;
+    }
+    WorkspaceOutcome refusal;
+    const std::shared_ptr<Job> job = admit(refusal, gh.getGoalID().id);
+    if (!job) {
+      toResult(refusal, result);
+      ROS_WARN("%s: goal rejected: %s", via.c_str(), result.message.c_str());
+      gh.setRejected(result, result.message);
+      return;
+    }
+    gh.setAccepted("job " + std::to_string(job->id));
+    // A goal cancelled before it was accepted is now PREEMPTING: it stops at once with the partial result.
+    if (gh.getGoalStatus().status == actionlib_msgs::GoalStatus::PREEMPTING) {
+      job->client_cancel = true;
+      job->cancel = true;
+    }
+    reapActionThreads(false);
+    auto done = std::make_shared<std::atomic<bool>>(false);
+    std::lock_guard<std::mutex> lock(threads_mutex_);
+    action_threads_.push_back(ActionThread{std::thread([this, job, query, gh, done] {
+                                             runGoal(job, query, gh);
+                                             *done = true;
+                                           }),
+                                           done});
+  } catch (const std::exception& e) {
+    result = VerifyWorkspaceResult();
+    result.message = std::string("verification failed: ") + e.what();
+    ROS_ERROR("%s: %s", via.c_str(), result.message.c_str());
+    gh.setRejected(result, result.message);
+  }
+}
+
+void AccuracyCheckerNode::runGoal(const std::shared_ptr<Job>& job, const WorkspaceQuery& query, GoalHandle gh) {
+  const std::string via = pnh_.resolveName(kVerifyWorkspaceAction);
+  std::mutex feedback_mutex;
+  const WorkspaceOutcome outcome = runJob(job, query, via, [&](const Progress& p) {
+    VerifyWorkspaceFeedback f;
+    toFeedback(p, f);
+    std::lock_guard<std::mutex> lock(feedback_mutex);
+    gh.publishFeedback(f);
+  });
+  VerifyWorkspaceResult result;
+  toResult(outcome, result);
+  if (outcome.success && outcome.reason == verify::toString(verify::UndecidedReason::Cancelled)) {
+    if (job->client_cancel) {
+      gh.setCanceled(result, "cancelled by the client: " + outcome.message);
+    } else {
+      gh.setAborted(result, "stopped by " + pnh_.resolveName("cancel") + " or the node's shutdown: " + outcome.message);
+    }
+  } else if (outcome.success) {
+    gh.setSucceeded(result, outcome.verdict + ": " + outcome.message);
+  } else {
+    gh.setAborted(result, outcome.message);
+  }
+}
+
+void AccuracyCheckerNode::onGoalCancel(GoalHandle gh) {
+  const std::string goal_id = gh.getGoalID().id;
+  std::lock_guard<std::mutex> lock(jobs_mutex_);
+  for (auto& j : jobs_) {
+    if (j.second->goal_id != goal_id) continue;
+    j.second->client_cancel = true;
+    j.second->cancel = true;
+    ROS_INFO("%s: the client cancels job %lu", pnh_.resolveName(kVerifyWorkspaceAction).c_str(),
+             static_cast<unsigned long>(j.first));
+  }
+}
+
+void AccuracyCheckerNode::reapActionThreads(bool all) {
+  std::vector<std::thread> finished;
+  {
+    std::lock_guard<std::mutex> lock(threads_mutex_);
+    for (auto it = action_threads_.begin(); it != action_threads_.end();) {
+      if (all || *it->done) {
+        finished.push_back(std::move(it->thread));
+        it = action_threads_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (auto& t : finished) {
+    if (t.joinable()) t.join();
+  }
 }
 
 WorkspaceOutcome AccuracyCheckerNode::verifyWorkspace(const model::RobotModel& model, const WorkspaceQuery& query,

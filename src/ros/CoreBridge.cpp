@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/TransformedWorkspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
@@ -36,6 +39,19 @@ domain::Workspace toWorkspace(const WorkspaceSpec& spec) {
   std::array<Interval, 3> angles;
   for (int k = 0; k < 3; ++k) angles[k] = Interval(spec.angle_min[k], spec.angle_max[k]);
   return domain::Workspace(toRegion(spec.position), angles);
+}
+
+std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query) {
+  domain::Workspace workspace = toWorkspace(query.workspace);
+  if (!query.has_transform) return std::make_unique<domain::Workspace>(std::move(workspace));
+  domain::RigidTransform t;
+  t.rotation = query.rotation;
+  t.translation = query.translation;
+  try {
+    return std::make_unique<domain::TransformedWorkspace>(std::move(workspace), t);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument("frame_id \"" + query.frame_id + "\": " + e.what());
+  }
 }
 
 verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHooks& hooks) {
@@ -115,7 +131,14 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
   out.undecided_min.fill(0.0);
   out.undecided_max.fill(0.0);
   bool first = true;
+  out.undecided_recorded.reserve(r.undecided_boxes.size());
   for (const verify::BoxRecord& b : r.undecided_boxes) {
+    Box6 box;
+    for (int i = 0; i < 6 && i < b.box.size(); ++i) {
+      box.lo[static_cast<std::size_t>(i)] = b.box[i].lower();
+      box.hi[static_cast<std::size_t>(i)] = b.box[i].upper();
+    }
+    out.undecided_recorded.push_back(box);
     for (int i = 0; i < 6 && i < b.box.size(); ++i) {
       const auto k = static_cast<std::size_t>(i);
       out.undecided_min[k] = first ? b.box[i].lower() : std::min(out.undecided_min[k], b.box[i].lower());
@@ -127,9 +150,9 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
 }
 
 WorkspaceOutcome runWorkspaceQuery(const model::RobotModel& model, const WorkspaceQuery& query, const JobHooks& hooks) {
-  const domain::Workspace workspace = toWorkspace(query.workspace);
+  const std::unique_ptr<domain::Domain> domain = toDomain(query);
   const verify::VerifierOptions options = toVerifierOptions(query, hooks);
-  const verify::VerifierResult result = verify::Verifier::run(model, workspace, options);
+  const verify::VerifierResult result = verify::Verifier::run(model, *domain, options);
   return toOutcome(result, query, model);
 }
 

@@ -138,11 +138,7 @@ bool readRegion(const VerifyWorkspace::Request& req, PositionRegion& r, std::str
 bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
                  WorkspaceQuery& out, std::string& error) {
   WorkspaceQuery q;
-  if (!req.frame_id.empty() && req.frame_id != base_frame) {
-    error = "frame_id: frame \"" + req.frame_id + "\": only the base frame \"" + base_frame +
-            "\" is supported yet (or \"\" for it; requests are not transformed with tf2)";
-    return false;
-  }
+  q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
   if (req.mode.empty() || req.mode == VerifyWorkspace::Request::MODE_VERIFY) {
     q.mode = QueryMode::Verify;
   } else if (req.mode == VerifyWorkspace::Request::MODE_MAX_ERROR) {
@@ -210,7 +206,11 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
   return true;
 }
 
-void toResponse(const WorkspaceOutcome& o, VerifyWorkspace::Response& res) {
+namespace {
+
+// The response and the action result have the same fields.
+template <class Response>
+void fillResponse(const WorkspaceOutcome& o, Response& res) {
   res.success = o.success;
   res.message = o.message;
   res.busy = o.busy;
@@ -239,6 +239,40 @@ void toResponse(const WorkspaceOutcome& o, VerifyWorkspace::Response& res) {
   res.outside_fraction = o.outside_fraction;
   res.undecided_boxes = o.undecided_boxes;
   res.undecided_boxes_recorded = o.undecided_boxes_recorded;
+}
+
+}  // namespace
+
+void toResponse(const WorkspaceOutcome& o, VerifyWorkspace::Response& res) { fillResponse(o, res); }
+
+void toResult(const WorkspaceOutcome& o, VerifyWorkspaceResult& result) { fillResponse(o, result); }
+
+VerifyWorkspace::Request toRequest(const VerifyWorkspaceGoal& g) {
+  VerifyWorkspace::Request r;
+  r.region_type = g.region_type;
+  r.box_min = g.box_min;
+  r.box_max = g.box_max;
+  r.center = g.center;
+  r.radius = g.radius;
+  r.z_min = g.z_min;
+  r.z_max = g.z_max;
+  r.halfspace_normals = g.halfspace_normals;
+  r.halfspace_offsets = g.halfspace_offsets;
+  r.roll_min = g.roll_min;
+  r.roll_max = g.roll_max;
+  r.pitch_min = g.pitch_min;
+  r.pitch_max = g.pitch_max;
+  r.yaw_min = g.yaw_min;
+  r.yaw_max = g.yaw_max;
+  r.thresholds = g.thresholds;
+  r.mode = g.mode;
+  r.alpha = g.alpha;
+  r.time_budget = g.time_budget;
+  r.min_width = g.min_width;
+  r.threads = g.threads;
+  r.method = g.method;
+  r.frame_id = g.frame_id;
+  return r;
 }
 
 std::string toString(const PositionRegion::Type type) {

@@ -15,6 +15,7 @@
 #include "VerifyHelpers.hpp"
 #include "pkm_accuracy/Progress.h"
 #include "pkm_accuracy/VerificationResult.h"
+#include "pkm_accuracy/core/verify/VerifierOptions.hpp"
 
 namespace {
 
@@ -227,7 +228,7 @@ TEST(VerifyWorkspace, VerdictIsLatched) {
   EXPECT_TRUE(v.success);
   EXPECT_EQ(v.verdict, "UNSAFE");
   EXPECT_EQ(v.mode, "verify");
-  EXPECT_EQ(v.method, "mean_value");
+  EXPECT_EQ(v.method, pkm_accuracy::verify::VerifierOptions().method);  // the verifier's default
   EXPECT_EQ(v.region_type, "box");
   EXPECT_EQ(v.workspace_min[2], 0.47);
   EXPECT_EQ(v.workspace_max[5], 0.01);
@@ -363,7 +364,6 @@ TEST(VerifyWorkspace, EveryMalformedFieldIsRefusedNamingItAndTheNodeKeepsServing
       {"min_width", [](VerifyWorkspace::Request& r) { r.min_width = kNaN; }},
       {"threads", [](VerifyWorkspace::Request& r) { r.threads = 100000; }},
       {"method", [](VerifyWorkspace::Request& r) { r.method = "magic"; }},
-      {"frame_id", [](VerifyWorkspace::Request& r) { r.frame_id = "world"; }},
   };
   for (const auto& c : cases) {
     VerifyWorkspace::Request req = smallRequest(kGenerous);
@@ -376,10 +376,16 @@ TEST(VerifyWorkspace, EveryMalformedFieldIsRefusedNamingItAndTheNodeKeepsServing
     EXPECT_EQ(r.job_id, 0u) << c.field;
     EXPECT_FALSE(r.busy) << c.field;
   }
-  // The frame message says what is supported.
+  // A frame unknown to tf2 (no transform published here): refused after the ~tf_timeout lookup, naming it (frames.test
+  // covers transformed requests).
   VerifyWorkspace::Request req = smallRequest(kGenerous);
   req.frame_id = "world";
-  EXPECT_NE(verify(req).message.find("only the base frame \"base_link\" is supported"), std::string::npos);
+  const auto unknown = verify(req);
+  EXPECT_FALSE(unknown.success);
+  EXPECT_EQ(unknown.verdict, "");
+  EXPECT_NE(unknown.message.find("frame_id: no transform from frame \"world\" to the base frame \"base_link\""),
+            std::string::npos)
+      << unknown.message;
   req.frame_id = "base_link";  // the base frame by name is fine
   EXPECT_TRUE(verify(req).success);
   // Still serving.

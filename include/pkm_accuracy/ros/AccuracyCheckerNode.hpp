@@ -1,24 +1,34 @@
 // The accuracy_checker node: loads a Gough platform (parameters or URDF), describes it (~describe), publishes its
-// anchors as static TF frames and answers /verify_workspace with the core verifier, publishing ~progress while a job
-// runs and its result on ~verdict (latched) when it ends. The ROS layer only translates: every decision about
-// accuracy is the core's, behind the seam verifyWorkspace().
+// anchors as static TF frames and answers /verify_workspace (service) and ~verify_workspace (actionlib action) with
+// the core verifier, publishing ~progress while a job runs, and its result on ~verdict (latched) and its boxes on
+// ~boxes (visualization_msgs/MarkerArray, latched) when it ends. A workspace given in another frame than the base
+// frame is looked up in tf2 at request time and handed to the core as a domain::TransformedWorkspace. The ROS layer
+// only translates: every decision about accuracy is the core's, behind the seam verifyWorkspace().
 #pragma once
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
+#include <actionlib/server/action_server.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <ros/spinner.h>
+#include <tf2_ros/buffer.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 
 #include "pkm_accuracy/Cancel.h"
 #include "pkm_accuracy/Describe.h"
+#include "pkm_accuracy/Progress.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
+#include "pkm_accuracy/VerifyWorkspaceAction.h"
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/ros/CoreBridge.hpp"
@@ -31,9 +41,14 @@ namespace ros_layer {
 /// Global names of the verification services (they do not move with the node's name or namespace).
 constexpr const char* kVerifyWorkspaceService = "/verify_workspace";
 constexpr const char* kVerifyTrajectoryService = "/verify_trajectory";  // reserved, not advertised yet
+/// Private name of the action (~verify_workspace, i.e. /pkm_accuracy/verify_workspace with the launch file's name).
+constexpr const char* kVerifyWorkspaceAction = "verify_workspace";
 
 class AccuracyCheckerNode {
  public:
+  using ActionServer = actionlib::ActionServer<VerifyWorkspaceAction>;
+  using GoalHandle = ActionServer::GoalHandle;
+
   /// @param nh  public node handle (services with global names)
   /// @param pnh private node handle ("~"): robot parameters, ~describe
   AccuracyCheckerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
@@ -41,8 +56,8 @@ class AccuracyCheckerNode {
 
   /// Loads the robot (~robot_source = "yaml": loadGoughGeometry() on the private parameters; "urdf": the URDF in
   /// robot_description (searched from the private namespace up) + ~sensor_error), builds its model (once: every
-  /// request uses it), then advertises the services and topics and publishes the anchor frames. Returns false, with
-  /// `error` saying why, only if no robot could be loaded; then nothing is advertised.
+  /// request uses it), then advertises the services, the action and the topics and publishes the anchor frames.
+  /// Returns false, with `error` saying why, only if no robot could be loaded; then nothing is advertised.
   bool start(std::string& error);
 
   const model::GoughGeometry& robot() const { return robot_; }
@@ -51,29 +66,48 @@ class AccuracyCheckerNode {
 
   /// THE SEAM between the ROS layer and the core: verifies an already validated query on `model` (the node passes
   /// the model it built once in start()) with the core verifier (CoreBridge.hpp: WorkspaceQuery -> the core's
-  /// workspace / options, verify::Verifier::run, the core's result -> WorkspaceOutcome). Translates, decides nothing.
+  /// domain (workspace, or transformed workspace for another frame) / options, verify::Verifier::run, the core's
+  /// result -> WorkspaceOutcome). Translates, decides nothing.
   /// @throws InvalidArgument (naming the field) if the core refuses the query, or whatever else the core throws:
-  ///         the service handler turns any exception into success=false.
+  ///         the callers turn any exception into success=false.
   WorkspaceOutcome verifyWorkspace(const model::RobotModel& model, const WorkspaceQuery& query,
                                    const JobHooks& hooks) const;
 
  private:
-  /// A running /verify_workspace job.
+  /// A running job (service request or action goal).
   struct Job {
     std::uint64_t id = 0;
     std::atomic<bool> cancel{false};
+    std::atomic<bool> client_cancel{false};  ///< the action client cancelled the goal (vs ~cancel / shutdown)
+    std::string goal_id;                     ///< action goals: the actionlib goal id; "" for service requests
     ros::WallTime started;
+  };
+  /// The thread running an action goal.
+  struct ActionThread {
+    std::thread thread;
+    std::shared_ptr<std::atomic<bool>> done;
   };
 
   bool loadRobot(std::string& error);
   bool onDescribe(Describe::Request& req, Describe::Response& res);
   bool onVerifyWorkspace(VerifyWorkspace::Request& req, VerifyWorkspace::Response& res);
   bool onCancel(Cancel::Request& req, Cancel::Response& res);
+  void onGoal(GoalHandle gh);
+  void onGoalCancel(GoalHandle gh);
+  void runGoal(const std::shared_ptr<Job>& job, const WorkspaceQuery& query, GoalHandle gh);
   /// Registers a new job, or returns null and explains in `refusal` (busy / shutting down).
-  std::shared_ptr<Job> admit(WorkspaceOutcome& refusal);
+  std::shared_ptr<Job> admit(WorkspaceOutcome& refusal, const std::string& goal_id = "");
   void finish(const std::shared_ptr<Job>& job);
+  /// Runs an admitted job to its end and releases it (finish()): looks frame_id up in tf2, runs the core through
+  /// verifyWorkspace(), publishes ~progress while it runs (and hands every snapshot to `feedback` if set), then
+  /// ~verdict, a last ~progress and ~boxes. Never throws: a failure is an outcome with success false.
+  WorkspaceOutcome runJob(const std::shared_ptr<Job>& job, WorkspaceQuery query, const std::string& via,
+                          const std::function<void(const Progress&)>& feedback);
+  /// Fills the query's transform from tf2 (base frame <- frame_id, latest, waiting up to ~tf_timeout).
+  bool resolveFrame(WorkspaceQuery& query, std::string& error);
   void publishAnchorFrames();
   void readDefaults();
+  void reapActionThreads(bool all);
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
@@ -82,24 +116,33 @@ class AccuracyCheckerNode {
   UrdfAnchorNames names_;  ///< frames (base_link = base frame, platform_link = platform frame) and anchor names
   std::string source_;     ///< "yaml" | "urdf"
   QueryDefaults defaults_;
-  int max_parallel_jobs_ = 1;       ///< ~max_parallel_jobs
+  int max_parallel_jobs_ = 1;       ///< ~max_parallel_jobs (service and action jobs together)
   double progress_period_s_ = 0.5;  ///< 1 / ~progress_rate; 0 = no ~progress
+  double tf_timeout_s_ = 1.0;       ///< ~tf_timeout
+  int max_box_markers_ = 500;       ///< ~max_box_markers
 
   ros::ServiceServer describe_srv_;
   ros::ServiceServer cancel_srv_;
   ros::ServiceServer verify_workspace_srv_;
   ros::Publisher verdict_pub_;   ///< ~verdict (latched)
   ros::Publisher progress_pub_;  ///< ~progress
+  ros::Publisher boxes_pub_;     ///< ~boxes (latched)
   // Verification requests may run for minutes: they get their own queue, served by max_parallel_jobs_ + 1 threads,
   // so ~describe and ~cancel (global queue) stay responsive, at most max_parallel_jobs_ jobs run at once, and one
-  // thread is always free to answer "busy" to a request beyond that.
+  // thread is always free to answer "busy" to a request beyond that. The action server's callbacks (goal, cancel)
+  // are served from the same queue and return at once: each accepted goal runs in its own thread.
   ros::CallbackQueue verify_queue_;
   std::unique_ptr<ros::AsyncSpinner> verify_spinner_;
+  std::unique_ptr<ActionServer> action_server_;
+  std::mutex threads_mutex_;
+  std::vector<ActionThread> action_threads_;
   std::mutex jobs_mutex_;
   std::map<std::uint64_t, std::shared_ptr<Job>> jobs_;  ///< running jobs by id
   std::uint64_t last_job_id_ = 0;
   bool shutting_down_ = false;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_broadcaster_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
 };
 
 }  // namespace ros_layer

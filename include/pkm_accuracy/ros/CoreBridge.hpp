@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/model/RobotModel.hpp"
@@ -25,6 +26,11 @@ struct JobHooks {
 /// The workspace of a query. @throws InvalidArgument (naming the range) on a range the core refuses.
 domain::Workspace toWorkspace(const WorkspaceSpec& spec);
 
+/// The search domain of a query: its workspace, or, when the query has a transform (frame_id other than the base
+/// frame), the core's domain::TransformedWorkspace of it (which decides which transforms it supports).
+/// @throws InvalidArgument as toWorkspace, or the core's refusal of the transform (prefixed with "frame_id \"F\": ").
+std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query);
+
 /// The verifier options of a query: mode, thresholds (a threshold of +inf, "do not check", becomes the largest
 /// finite double: every bounded error passes it, an unbounded one does not), alpha (relative), time limit, min width
 /// (the same for the 6 variables; 0 = the verifier's choice), threads, method ("" = the verifier's default), hooks.
@@ -35,7 +41,7 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& query, const Job
 WorkspaceOutcome toOutcome(const verify::VerifierResult& result, const WorkspaceQuery& query,
                            const model::RobotModel& model);
 
-/// toWorkspace + toVerifierOptions + verify::Verifier::run + toOutcome.
+/// toDomain + toVerifierOptions + verify::Verifier::run + toOutcome.
 /// @throws InvalidArgument (naming the field) if the core refuses the query; anything else the core throws.
 WorkspaceOutcome runWorkspaceQuery(const model::RobotModel& model, const WorkspaceQuery& query,
                                    const JobHooks& hooks = JobHooks());

@@ -14,7 +14,7 @@
 namespace pkm_accuracy {
 namespace ros_layer {
 
-/// Set of positions (m, base frame) of the platform frame's origin.
+/// Set of positions (m, in the query's frame_id) of the platform frame's origin.
 struct PositionRegion {
   enum class Type { Box, Cylinder, Sphere, Polyhedron };
   Type type = Type::Box;
@@ -50,6 +50,19 @@ struct WorkspaceQuery {
   double min_width = 0.0;    ///< m / rad, >= 0 (0: the verifier chooses)
   unsigned threads = 0;      ///< 0 = all hardware threads
   std::string method;        ///< enclosure method name; "": the verifier's default
+  /// Frame of the workspace and of every pose of the outcome; "" = the robot's base frame. For another frame the
+  /// node fills the transform below from tf2 (has_transform) before the core runs.
+  std::string frame_id;
+  bool has_transform = false;
+  /// base_from_frame, the pose of frame_id in the base frame: p_base = translation + rotation p_frame.
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+};
+
+/// A box of the search (x, y, z in m; roll, pitch, yaw in rad; in the query's frame).
+struct Box6 {
+  std::array<double, 6> lo{};
+  std::array<double, 6> hi{};
 };
 
 /// Outcome of one request (mirrors the response of srv/VerifyWorkspace.srv, whose comments give units and frames).
@@ -77,6 +90,7 @@ struct WorkspaceOutcome {
   std::uint64_t undecided_boxes_recorded = 0;
   std::array<double, 6> undecided_min{};  ///< hull of the recorded undecided boxes
   std::array<double, 6> undecided_max{};
+  std::vector<Box6> undecided_recorded;  ///< the recorded undecided boxes themselves (for ~boxes; not in the srv)
 };
 
 /// Node-wide defaults for the options a request leaves at 0.

@@ -1,0 +1,180 @@
+#include "pkm_accuracy/ros/BoxMarkers.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <set>
+
+#include <Eigen/Geometry>
+
+namespace pkm_accuracy {
+namespace ros_layer {
+namespace {
+
+std_msgs::ColorRGBA color(float r, float g, float b, float a) {
+  std_msgs::ColorRGBA c;
+  c.r = r;
+  c.g = g;
+  c.b = b;
+  c.a = a;
+  return c;
+}
+
+geometry_msgs::Point point(const Eigen::Vector3d& v) {
+  geometry_msgs::Point p;
+  p.x = v.x();
+  p.y = v.y();
+  p.z = v.z();
+  return p;
+}
+
+/// Places markers given in the query's frame into the base frame.
+class Placement {
+ public:
+  explicit Placement(const WorkspaceQuery& q)
+      : rotation_(q.has_transform ? q.rotation : Eigen::Matrix3d::Identity()),
+        translation_(q.has_transform ? q.translation : Eigen::Vector3d::Zero()),
+        orientation_(Eigen::Quaterniond(rotation_).normalized()) {}
+
+  /// Sets the marker's pose: origin at `centre` (query frame), axes of the query frame.
+  void place(visualization_msgs::Marker& m, const Eigen::Vector3d& centre) const {
+    m.pose.position = point(translation_ + rotation_ * centre);
+    m.pose.orientation.w = orientation_.w();
+    m.pose.orientation.x = orientation_.x();
+    m.pose.orientation.y = orientation_.y();
+    m.pose.orientation.z = orientation_.z();
+  }
+
+ private:
+  Eigen::Matrix3d rotation_;
+  Eigen::Vector3d translation_;
+  Eigen::Quaterniond orientation_;
+};
+
+}  // namespace
+
+visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const WorkspaceOutcome& o,
+                                               const std::string& base_frame, const ros::Time& stamp,
+                                               std::size_t max_boxes) {
+  visualization_msgs::MarkerArray array;
+  const Placement placement(q);
+  auto marker = [&](const char* ns, int id, int type) {
+    visualization_msgs::Marker m;
+    m.header.frame_id = base_frame;
+    m.header.stamp = stamp;
+    m.ns = ns;
+    m.id = id;
+    m.type = type;
+    m.action = visualization_msgs::Marker::ADD;
+    m.pose.orientation.w = 1.0;
+    m.scale.x = m.scale.y = m.scale.z = 1.0;
+    return m;
+  };
+
+  visualization_msgs::Marker clear;
+  clear.header.frame_id = base_frame;
+  clear.header.stamp = stamp;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  clear.pose.orientation.w = 1.0;
+  array.markers.push_back(clear);
+
+  Eigen::Vector3d lo, hi;
+  q.workspace.position.boundingBox(lo, hi);
+  const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);
+  const double unit = std::max(size.norm(), 1e-3);  // scale of the drawing (m)
+  const double thin = 1e-3 * unit;                  // smallest drawn thickness (RViz ignores zero scales)
+
+  // The region.
+  {
+    const PositionRegion& r = q.workspace.position;
+    visualization_msgs::Marker m = marker(kMarkerNsWorkspace, 0, visualization_msgs::Marker::CUBE);
+    m.color = color(0.2f, 0.6f, 1.0f, 0.15f);
+    switch (r.type) {
+      case PositionRegion::Type::Sphere:
+        m.type = visualization_msgs::Marker::SPHERE;
+        placement.place(m, r.center);
+        m.scale.x = m.scale.y = m.scale.z = 2.0 * r.radius;
+        break;
+      case PositionRegion::Type::Cylinder:
+        m.type = visualization_msgs::Marker::CYLINDER;
+        placement.place(m, Eigen::Vector3d(r.center.x(), r.center.y(), 0.5 * (r.z_min + r.z_max)));
+        m.scale.x = m.scale.y = 2.0 * r.radius;
+        m.scale.z = std::max(r.z_max - r.z_min, thin);
+        break;
+      case PositionRegion::Type::Box:
+      case PositionRegion::Type::Polyhedron:  // drawn as its bounding box
+        placement.place(m, centre);
+        m.scale.x = std::max(size.x(), thin);
+        m.scale.y = std::max(size.y(), thin);
+        m.scale.z = std::max(size.z(), thin);
+        break;
+    }
+    array.markers.push_back(m);
+  }
+
+  // Its bounding box, as a wireframe (12 edges, corners relative to the centre).
+  {
+    visualization_msgs::Marker m = marker(kMarkerNsBounds, 0, visualization_msgs::Marker::LINE_LIST);
+    placement.place(m, centre);
+    m.scale.x = 3e-3 * unit;
+    m.color = color(0.2f, 0.6f, 1.0f, 0.9f);
+    const Eigen::Vector3d h = 0.5 * size;
+    auto corner = [&](int c) {
+      return Eigen::Vector3d((c & 1) ? h.x() : -h.x(), (c & 2) ? h.y() : -h.y(), (c & 4) ? h.z() : -h.z());
+    };
+    for (int c = 0; c < 8; ++c) {
+      for (int bit = 1; bit < 8; bit <<= 1) {
+        if (c & bit) continue;  // each edge once, from its lower corner
+        m.points.push_back(point(corner(c)));
+        m.points.push_back(point(corner(c | bit)));
+      }
+    }
+    array.markers.push_back(m);
+  }
+
+  // Undecided boxes: one cube per distinct position projection.
+  {
+    std::set<std::array<double, 6>> seen;
+    int id = 0;
+    for (const Box6& b : o.undecided_recorded) {
+      if (static_cast<std::size_t>(id) >= max_boxes) break;
+      const std::array<double, 6> key = {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
+      if (!seen.insert(key).second) continue;
+      visualization_msgs::Marker m = marker(kMarkerNsUndecided, id++, visualization_msgs::Marker::CUBE);
+      placement.place(m,
+                      Eigen::Vector3d(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
+      m.scale.x = std::max(b.hi[0] - b.lo[0], thin);
+      m.scale.y = std::max(b.hi[1] - b.lo[1], thin);
+      m.scale.z = std::max(b.hi[2] - b.lo[2], thin);
+      m.color = color(1.0f, 0.55f, 0.0f, 0.5f);
+      array.markers.push_back(m);
+    }
+  }
+
+  // The witness.
+  if (o.has_witness) {
+    visualization_msgs::Marker m = marker(kMarkerNsWitness, 0, visualization_msgs::Marker::SPHERE);
+    placement.place(m, Eigen::Vector3d(o.witness_pose[0], o.witness_pose[1], o.witness_pose[2]));
+    m.scale.x = m.scale.y = m.scale.z = 0.04 * unit;
+    m.color = color(1.0f, 0.0f, 0.0f, 1.0f);
+    array.markers.push_back(m);
+  }
+
+  // The verdict.
+  {
+    visualization_msgs::Marker m = marker(kMarkerNsLabel, 0, visualization_msgs::Marker::TEXT_VIEW_FACING);
+    placement.place(m, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit));
+    m.scale.z = 0.06 * unit;
+    m.color = color(1.0f, 1.0f, 1.0f, 1.0f);
+    char text[160];
+    std::snprintf(text, sizeof(text), "job %llu: %s%s%s, %llu undecided box(es)",
+                  static_cast<unsigned long long>(o.job_id), o.success ? o.verdict.c_str() : "failed",
+                  o.reason.empty() ? "" : " ", o.reason.c_str(), static_cast<unsigned long long>(o.undecided_boxes));
+    m.text = text;
+    array.markers.push_back(m);
+  }
+  return array;
+}
+
+}  // namespace ros_layer
+}  // namespace pkm_accuracy

@@ -1,0 +1,307 @@
+// domain::TransformedWorkspace: a workspace in a frame F fixed to the base frame. The identity transform is the
+// workspace itself (bit for bit); the pose enclosures contain the exactly mapped poses (long double reference) and
+// the gradient is the transform's; the verifier gives the same verdicts and overlapping max-error brackets as on the
+// equivalent base-frame workspace; unsupported or invalid transforms are refused with a message saying why.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <string>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "TestRobots.hpp"
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/TransformedWorkspace.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+
+using namespace pkm_accuracy;
+using domain::RigidTransform;
+using domain::TransformedWorkspace;
+using domain::Workspace;
+
+namespace {
+
+bool identical(const Interval& a, const Interval& b) { return a.lower() == b.lower() && a.upper() == b.upper(); }
+
+/// A small box workspace of the reference robot: x, y in [-0.01, 0.01], z in [0.47, 0.48] (m), angles +-0.01 rad.
+Workspace smallBox(double dx = 0.0, double dy = 0.0, double dz = 0.0, double dyaw = 0.0) {
+  return Workspace::fromRanges({Interval(-0.01 + dx, 0.01 + dx), Interval(-0.01 + dy, 0.01 + dy),
+                                Interval(0.47 + dz, 0.48 + dz), Interval(-0.01, 0.01), Interval(-0.01, 0.01),
+                                Interval(-0.01 + dyaw, 0.01 + dyaw)});
+}
+
+using Mat3L = std::array<std::array<long double, 3>, 3>;
+
+Mat3L product(const Mat3L& a, const Mat3L& b) {
+  Mat3L c{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) c[i][j] += a[i][k] * b[k][j];
+  return c;
+}
+
+/// The rotation R = Rz(yaw) Ry(pitch) Rx(roll) in long double.
+Mat3L rpy(long double r, long double p, long double y) {
+  const Mat3L rx = {{{1, 0, 0}, {0, std::cos(r), -std::sin(r)}, {0, std::sin(r), std::cos(r)}}};
+  const Mat3L ry = {{{std::cos(p), 0, std::sin(p)}, {0, 1, 0}, {-std::sin(p), 0, std::cos(p)}}};
+  const Mat3L rz = {{{std::cos(y), -std::sin(y), 0}, {std::sin(y), std::cos(y), 0}, {0, 0, 1}}};
+  return product(rz, product(ry, rx));
+}
+
+verify::VerifierOptions verifyOptions(const DVec& thresholds) {
+  verify::VerifierOptions o;
+  o.thresholds = thresholds;
+  o.threads = 1;
+  o.time_limit_s = 30.0;
+  return o;
+}
+
+DVec six(double a, double b) { return (DVec(6) << a, a, a, b, b, b).finished(); }
+
+/// Maximum of every component over random points of a domain (points of its initial box inside its region).
+DVec sampledMaxima(const model::RobotModel& robot, const domain::Domain& d, int samples, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  DVec best = DVec::Zero(robot.dof());
+  for (int s = 0; s < samples; ++s) {
+    const DVec t = test::randomPoint(d.initialBox(), rng);
+    IVec thin(6);
+    for (int i = 0; i < 6; ++i) thin[i] = Interval(t[i]);
+    if (d.classify(thin) != domain::Containment::Inside) continue;
+    const IVec pose = d.poseAt(t);
+    DVec p(6);
+    for (int i = 0; i < 6; ++i) p[i] = pose[i].mid();
+    const DVec f = robot.worstErrorAt(p);
+    for (int k = 0; k < robot.dof(); ++k) best[k] = std::max(best[k], f[k]);
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST(TransformedWorkspace, IdentityTransformIsTheWorkspaceItself) {
+  const Workspace ws = smallBox();
+  const TransformedWorkspace tw(ws, RigidTransform());
+  EXPECT_EQ(tw.yawOffset(), 0.0);
+  std::mt19937_64 rng(3);
+  for (int trial = 0; trial < 200; ++trial) {
+    IVec box(6);
+    for (int i = 0; i < 6; ++i) {
+      const DVec a = test::randomPoint(ws.initialBox(), rng), b = test::randomPoint(ws.initialBox(), rng);
+      box[i] = Interval::hullOf(a[i], b[i]);
+    }
+    enclosure::BoxInput x, y;
+    ws.poseView(box, true, x);
+    tw.poseView(box, true, y);
+    ASSERT_EQ(y.variables, 6);
+    ASSERT_TRUE(y.hasGradient);
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_TRUE(identical(x.pose[i], y.pose[i])) << i;
+      EXPECT_TRUE(identical(x.centrePose[i], y.centrePose[i])) << i;
+      EXPECT_TRUE(identical(x.deviation[i], y.deviation[i])) << i;
+      EXPECT_TRUE(identical(x.dualPose[i].value(), y.dualPose[i].value())) << i;
+      for (int j = 0; j < 6; ++j) EXPECT_TRUE(identical(x.dualPose[i].d(j), y.dualPose[i].d(j))) << i << " " << j;
+    }
+    EXPECT_EQ(ws.classify(box), tw.classify(box));
+  }
+  // Same search, same result.
+  const io::RobotFile file = test::ref6File();
+  const model::GoughPlatform robot(file.geometry);
+  const auto a = verify::Verifier::run(robot, ws, verifyOptions(six(1e-3, 1e-2)));
+  const auto b = verify::Verifier::run(robot, tw, verifyOptions(six(1e-3, 1e-2)));
+  EXPECT_EQ(a.verdict, verify::Verdict::Safe) << a.message;
+  EXPECT_EQ(b.verdict, a.verdict) << b.message;
+  EXPECT_EQ(b.stats.boxes, a.stats.boxes);
+}
+
+TEST(TransformedWorkspace, EnclosesTheExactlyMappedPosesWithTheTransformsGradient) {
+  const Workspace ws = smallBox();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> angle(-3.2, 3.2), offset(-1.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    const double a = trial == 0 ? 1.5707963267948966 : angle(rng);
+    const Eigen::Vector3d t(offset(rng), offset(rng), offset(rng));
+    const TransformedWorkspace tw(ws, RigidTransform::fromTranslationYaw(t, a));
+    EXPECT_EQ(tw.yawOffset(), std::atan2(std::sin(a), std::cos(a)));
+    const long double ca = std::cos(static_cast<long double>(tw.yawOffset()));
+    const long double sa = std::sin(static_cast<long double>(tw.yawOffset()));
+    for (int b = 0; b < 20; ++b) {
+      const IVec box = test::centredSubBox(ws.initialBox(), 0.3);
+      IVec sub(6);
+      const DVec c = test::randomPoint(box, rng);
+      for (int i = 0; i < 6; ++i) sub[i] = Interval::hullOf(c[i], test::randomPoint(box, rng)[i]);
+      enclosure::BoxInput in;
+      tw.poseView(sub, true, in);
+      // Exact gradient of the map: d(x', y')/d(x, y) = Rz(a), the other coordinates pass through.
+      const long double jac[6][6] = {{ca, -sa, 0, 0, 0, 0}, {sa, ca, 0, 0, 0, 0}, {0, 0, 1, 0, 0, 0},
+                                     {0, 0, 0, 1, 0, 0},    {0, 0, 0, 0, 1, 0},   {0, 0, 0, 0, 0, 1}};
+      for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) {
+          const Interval& g = in.dualPose[i].d(j);
+          EXPECT_TRUE(g.lower() <= jac[i][j] && jac[i][j] <= g.upper()) << i << " " << j << " " << g;
+          EXPECT_LT(g.width(), 1e-15);
+        }
+      }
+      // Points of the box map into the enclosures (pose and dualPose value), the centre into centrePose.
+      for (int s = 0; s < 20; ++s) {
+        const DVec p = s == 0 ? domain::centreOf(sub) : test::randomPoint(sub, rng);
+        const long double x = t.x() + ca * p[0] - sa * p[1];
+        const long double y = t.y() + sa * p[0] + ca * p[1];
+        const long double mapped[6] = {x,    y,    t.z() + static_cast<long double>(p[2]),
+                                       p[3], p[4], static_cast<long double>(p[5]) + tw.yawOffset()};
+        const IVec at = tw.poseAt(p);
+        for (int i = 0; i < 6; ++i) {
+          EXPECT_TRUE(in.pose[i].lower() <= mapped[i] && mapped[i] <= in.pose[i].upper()) << i;
+          EXPECT_TRUE(in.dualPose[i].value().lower() <= mapped[i] && mapped[i] <= in.dualPose[i].value().upper());
+          EXPECT_TRUE(at[i].lower() <= mapped[i] && mapped[i] <= at[i].upper()) << i;
+          EXPECT_LT(at[i].width(), 1e-14) << i;
+          if (s == 0) {
+            EXPECT_TRUE(in.centrePose[i].lower() <= mapped[i] && mapped[i] <= in.centrePose[i].upper()) << i;
+          }
+        }
+      }
+      for (int i = 0; i < 6; ++i) EXPECT_TRUE(sub[i].isSubsetOf(in.deviation[i] + Interval(sub[i].mid())));
+    }
+  }
+}
+
+TEST(TransformedWorkspace, YawOffsetComposesTheOrientationExactly) {
+  // Rz(a) Rz(yaw) Ry(pitch) Rx(roll) = Rz(a + yaw) Ry(pitch) Rx(roll): the base-frame orientation of the domain.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int trial = 0; trial < 100; ++trial) {
+    const long double a = u(rng), r = u(rng), p = u(rng), y = u(rng);
+    const Mat3L lhs = product(rpy(0, 0, a), rpy(r, p, y));
+    const Mat3L rhs = rpy(r, p, a + y);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) EXPECT_LT(std::abs(lhs[i][j] - rhs[i][j]), 1e-17L) << i << " " << j;
+  }
+}
+
+TEST(TransformedWorkspace, SameVerdictsAsTheEquivalentBaseFrameWorkspace) {
+  const io::RobotFile file = test::ref6File();
+  const model::GoughPlatform robot(file.geometry);
+  // A vertical cylinder is mapped to a vertical cylinder by any translation + rotation about z: the two
+  // workspaces below are the same set of base-frame poses.
+  const double a = 0.7;
+  const Eigen::Vector3d t(0.03, -0.02, 0.1);
+  const Eigen::Vector2d centreBase(0.01, -0.005);
+  const Eigen::Vector2d centreFrame = Eigen::Rotation2Dd(-a) * (centreBase - t.head<2>());
+  const std::array<Interval, 3> angles = {Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01, 0.01)};
+  const Workspace base(domain::PositionRegion::cylinder(centreBase.x(), centreBase.y(), 0.01, 0.47, 0.48), angles);
+  const TransformedWorkspace framed(
+      Workspace(domain::PositionRegion::cylinder(centreFrame.x(), centreFrame.y(), 0.01, 0.37, 0.38),
+                {Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01 - a, 0.01 - a)}),
+      RigidTransform::fromTranslationYaw(t, a));
+
+  for (const auto& [thresholds, expected] : {std::make_pair(six(1e-3, 1e-2), verify::Verdict::Safe),
+                                             std::make_pair(six(1e-6, 1e-6), verify::Verdict::Unsafe)}) {
+    const auto rb = verify::Verifier::run(robot, base, verifyOptions(thresholds));
+    const auto rf = verify::Verifier::run(robot, framed, verifyOptions(thresholds));
+    EXPECT_EQ(rb.verdict, expected) << rb.message;
+    EXPECT_EQ(rf.verdict, rb.verdict) << rf.message << " / " << rb.message;
+    if (rf.verdict == verify::Verdict::Unsafe) {
+      // The witness is a point of the frame's workspace; its base-frame pose (computed independently) violates
+      // the threshold.
+      const int k = rf.witness_component;
+      ASSERT_GE(k, 0);
+      IVec thin(6);
+      for (int i = 0; i < 6; ++i) thin[i] = Interval(rf.witness[i]);
+      EXPECT_EQ(framed.classify(thin), domain::Containment::Inside);
+      const double c = std::cos(a), s = std::sin(a);
+      DVec pose(6);
+      pose << t.x() + c * rf.witness[0] - s * rf.witness[1], t.y() + s * rf.witness[0] + c * rf.witness[1],
+          t.z() + rf.witness[2], rf.witness[3], rf.witness[4], rf.witness[5] + a;
+      EXPECT_GT(robot.worstErrorAt(pose)[k], thresholds[k]);
+      for (int i = 0; i < 6; ++i) EXPECT_NEAR(rf.witness_pose[i].mid(), pose[i], 1e-12) << i;
+    }
+  }
+
+  // A larger pair that needs a real search: thresholds 10 % above / 5 % below the sampled maxima.
+  const Workspace bigBase(domain::PositionRegion::cylinder(centreBase.x(), centreBase.y(), 0.05, 0.46, 0.49),
+                          {Interval(-0.1, 0.1), Interval(-0.1, 0.1), Interval(-0.1, 0.1)});
+  const TransformedWorkspace bigFramed(
+      Workspace(domain::PositionRegion::cylinder(centreFrame.x(), centreFrame.y(), 0.05, 0.36, 0.39),
+                {Interval(-0.1, 0.1), Interval(-0.1, 0.1), Interval(-0.1 - a, 0.1 - a)}),
+      RigidTransform::fromTranslationYaw(t, a));
+  const DVec maxima = sampledMaxima(robot, bigBase, 20000, 11);
+  for (const auto& [factor, expected] :
+       {std::make_pair(1.10, verify::Verdict::Safe), std::make_pair(0.95, verify::Verdict::Unsafe)}) {
+    const auto rb = verify::Verifier::run(robot, bigBase, verifyOptions(maxima * factor));
+    const auto rf = verify::Verifier::run(robot, bigFramed, verifyOptions(maxima * factor));
+    EXPECT_EQ(rb.verdict, expected) << rb.message;
+    EXPECT_EQ(rf.verdict, rb.verdict) << rf.message << " / " << rb.message;
+    if (expected == verify::Verdict::Safe) {
+      EXPECT_GT(rf.stats.boxes, 1u);
+    }
+  }
+}
+
+TEST(TransformedWorkspace, MaxErrorBracketsOverlapThoseOfTheEquivalentBaseFrameWorkspace) {
+  // Brackets of the same maxima must overlap (both are certified). A translated box is a box.
+  const io::RobotFile file = test::ref6File();
+  const model::GoughPlatform robot(file.geometry);
+  const Eigen::Vector3d t(0.03, -0.02, 0.1);
+  auto box = [](const Eigen::Vector3d& shift) {
+    return Workspace::fromRanges({Interval(-0.004 + shift.x(), 0.004 + shift.x()),
+                                  Interval(-0.004 + shift.y(), 0.004 + shift.y()),
+                                  Interval(0.473 + shift.z(), 0.477 + shift.z()), Interval(-0.004, 0.004),
+                                  Interval(-0.004, 0.004), Interval(-0.004, 0.004)});
+  };
+  const Workspace base = box(Eigen::Vector3d::Zero());
+  const TransformedWorkspace framed(box(-t), RigidTransform::fromTranslationYaw(t, 0.0));
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.alpha = 0.2;
+  o.threads = 1;
+  o.time_limit_s = 30.0;
+  const auto mb = verify::Verifier::run(robot, base, o);
+  const auto mf = verify::Verifier::run(robot, framed, o);
+  ASSERT_TRUE(mb.converged) << mb.message;
+  ASSERT_TRUE(mf.converged) << mf.message;
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_LE(mf.max_lower[k], mb.max_upper[k]) << k;
+    EXPECT_LE(mb.max_lower[k], mf.max_upper[k]) << k;
+  }
+}
+
+TEST(TransformedWorkspace, RefusesInvalidAndUnsupportedTransforms) {
+  const Workspace ws = smallBox();
+  auto message = [&](const RigidTransform& t) -> std::string {
+    try {
+      TransformedWorkspace tw(ws, t);
+    } catch (const InvalidArgument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  RigidTransform tilted;
+  tilted.rotation = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_NE(message(tilted).find("only rotations about the z axis"), std::string::npos) << message(tilted);
+  EXPECT_NE(message(tilted).find("0.1 rad"), std::string::npos) << message(tilted);
+
+  RigidTransform scaled;
+  scaled.rotation = 2.0 * Eigen::Matrix3d::Identity();
+  EXPECT_NE(message(scaled).find("expected a rotation matrix"), std::string::npos) << message(scaled);
+  RigidTransform mirrored;
+  mirrored.rotation = Eigen::Vector3d(1, 1, -1).asDiagonal();
+  EXPECT_NE(message(mirrored).find("det R"), std::string::npos) << message(mirrored);
+  RigidTransform nan;
+  nan.rotation(0, 0) = std::nan("");
+  EXPECT_NE(message(nan).find("finite rotation"), std::string::npos) << message(nan);
+  RigidTransform far;
+  far.translation.x() = HUGE_VAL;
+  EXPECT_NE(message(far).find("transform translation"), std::string::npos) << message(far);
+
+  // Rotations about z built by fromTranslationYaw or Eigen's AngleAxis have exactly zero off-z entries: accepted.
+  EXPECT_EQ(message(RigidTransform::fromTranslationYaw(Eigen::Vector3d(1, 2, 3), -2.0)), "");
+  RigidTransform aboutZ;
+  aboutZ.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_EQ(message(aboutZ), "");
+  EXPECT_DOUBLE_EQ(TransformedWorkspace(ws, aboutZ).yawOffset(), 0.3);
+}

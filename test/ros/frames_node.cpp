@@ -1,0 +1,254 @@
+// rostest (frames.test): /verify_workspace requests whose workspace is given in a frame other than the base frame.
+// The node looks the frame up in tf2 (static transforms published by the .test file) and the core composes the
+// transform exactly (domain::TransformedWorkspace): every verdict equals that of the equivalent base-frame request,
+// witnesses lie in the requested frame's workspace and violate the threshold once mapped to the base frame (double
+// oracle), max_error brackets overlap those of the base-frame request, ~verdict and ~boxes use the right frames;
+// a tilted frame and an unknown frame are refused naming frame_id.
+#include <array>
+#include <cmath>
+#include <functional>
+#include <mutex>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "VerifyHelpers.hpp"
+#include "pkm_accuracy/VerificationResult.h"
+
+namespace {
+
+using namespace pkm_accuracy_test;  // NOLINT(build/namespaces)
+using pkm_accuracy::VerificationResult;
+
+// The frames of frames.test: the pose of each in base_link.
+const Eigen::Vector3d kWork(0.03, -0.02, 0.1);     // work: translated
+const Eigen::Vector3d kTurned(0.01, -0.005, 0.1);  // turned (via table): translated and turned by kYaw about z
+constexpr double kYaw = 0.7;
+
+/// The base-frame pose of a pose given in a frame placed at `t` and turned by `yaw` about z (double: the oracle).
+std::array<double, 6> toBase(const std::array<double, 6>& p, const Eigen::Vector3d& t, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  return {t.x() + c * p[0] - s * p[1], t.y() + s * p[0] + c * p[1], t.z() + p[2], p[3], p[4], p[5] + yaw};
+}
+
+/// The base-frame box request `base` expressed in a frame translated by t (no rotation).
+VerifyWorkspace::Request translated(const VerifyWorkspace::Request& base, const Eigen::Vector3d& t,
+                                    const std::string& frame) {
+  VerifyWorkspace::Request r = base;
+  for (std::size_t k = 0; k < 3; ++k) {
+    r.box_min[k] -= t[static_cast<int>(k)];
+    r.box_max[k] -= t[static_cast<int>(k)];
+  }
+  r.frame_id = frame;
+  return r;
+}
+
+/// A vertical cylinder of radius 5 mm around (cx, cy), z in [z0, z0 + 0.01], roll and pitch in +-0.01 rad, yaw in
+/// yaw0 +- 0.01 rad.
+VerifyWorkspace::Request cylinder(double cx, double cy, double z0, double yaw0, const std::array<double, 6>& th) {
+  VerifyWorkspace::Request r = smallRequest(th);
+  r.region_type = "cylinder";
+  r.center.x = cx;
+  r.center.y = cy;
+  r.radius = 0.005;
+  r.z_min = z0;
+  r.z_max = z0 + 0.01;
+  r.yaw_min = yaw0 - 0.01;
+  r.yaw_max = yaw0 + 0.01;
+  return r;
+}
+
+/// Keeps the last message of a latched topic; waits for one that satisfies a predicate.
+template <class Msg>
+class Latest {
+ public:
+  explicit Latest(const std::string& topic)
+      : sub_(ros::NodeHandle().subscribe<Msg>(topic, 10, [this](const boost::shared_ptr<const Msg>& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          last_ = m;
+        })) {}
+  boost::shared_ptr<const Msg> waitFor(const std::function<bool(const Msg&)>& ok, double timeout = 10.0) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
+    while (ros::WallTime::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (last_ && ok(*last_)) return last_;
+      }
+      ros::WallDuration(0.02).sleep();
+    }
+    return nullptr;
+  }
+
+ private:
+  std::mutex mutex_;
+  boost::shared_ptr<const Msg> last_;
+  ros::Subscriber sub_;
+};
+
+const visualization_msgs::Marker* find(const visualization_msgs::MarkerArray& a, const std::string& ns) {
+  for (const auto& m : a.markers)
+    if (m.ns == ns) return &m;
+  return nullptr;
+}
+
+/// Checks a verdict pair and, for UNSAFE, the framed witness against the oracle.
+void expectSameVerdict(const VerifyWorkspace::Response& rb, const VerifyWorkspace::Response& rf,
+                       const std::string& expected, const std::array<double, 6>& th, const Eigen::Vector3d& t,
+                       double yaw) {
+  ASSERT_TRUE(rb.success) << rb.message;
+  ASSERT_TRUE(rf.success) << rf.message;
+  EXPECT_EQ(rb.verdict, expected) << rb.message;
+  EXPECT_EQ(rf.verdict, rb.verdict) << rf.message;
+  if (rf.verdict != "UNSAFE") return;
+  ASSERT_TRUE(rf.has_witness);
+  ASSERT_GE(rf.witness_component, 0);
+  const auto c = static_cast<std::size_t>(rf.witness_component);
+  EXPECT_GT(rf.witness_error[c], th[c]);
+  const auto f = worstErrorAt(toBase(to6(rf.witness_pose), t, yaw));
+  EXPECT_GT(f[c], th[c]);
+  EXPECT_GE(f[c], rf.witness_error[c] * (1.0 - 1e-9));
+}
+
+TEST(Frames, TranslatedFrameGivesTheVerdictsOfTheBaseFrame) {
+  for (const auto& [th, expected] : {std::make_pair(kGenerous, "SAFE"), std::make_pair(kTiny, "UNSAFE")}) {
+    const auto base = smallRequest(th);
+    const auto framed = translated(base, kWork, "work");
+    const auto rb = verify(base);
+    const auto rf = verify(framed);
+    expectSameVerdict(rb, rf, expected, th, kWork, 0.0);
+    if (rf.has_witness) {
+      EXPECT_TRUE(poseInWorkspace(to6(rf.witness_pose), framed));  // in the frame's workspace
+    }
+  }
+}
+
+TEST(Frames, TranslatedFrameMaxErrorBracketsOverlapTheBaseFrames) {
+  auto base = smallRequest(kNone, "max_error");
+  base.alpha = 0.05;
+  const auto framed = translated(base, kWork, "work");
+  const auto rb = verify(base);
+  const auto rf = verify(framed);
+  ASSERT_TRUE(rb.success) << rb.message;
+  ASSERT_TRUE(rf.success) << rf.message;
+  EXPECT_TRUE(rf.converged) << rf.message;
+  ASSERT_EQ(rf.lower_bound_poses.size(), 36u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    // Both brackets enclose the same maxima.
+    EXPECT_LE(rf.lower_bound[k], rb.upper_bound[k]) << k;
+    EXPECT_LE(rb.lower_bound[k], rf.upper_bound[k]) << k;
+    // The lower bound's pose is in the frame's workspace, and attains it once mapped to the base frame.
+    std::array<double, 6> pose{};
+    for (std::size_t i = 0; i < 6; ++i) pose[i] = rf.lower_bound_poses[6 * k + i];
+    EXPECT_TRUE(poseInWorkspace(pose, framed)) << k;
+    EXPECT_GE(worstErrorAt(toBase(pose, kWork, 0.0))[k], rf.lower_bound[k] * (1.0 - 1e-9)) << k;
+  }
+}
+
+TEST(Frames, TurnedFrameThroughAChainGivesTheVerdictsOfTheBaseFrame) {
+  Latest<VerificationResult> verdict("/pkm_accuracy/verdict");
+  Latest<visualization_msgs::MarkerArray> boxes("/pkm_accuracy/boxes");
+  for (const auto& [th, expected] : {std::make_pair(kGenerous, "SAFE"), std::make_pair(kTiny, "UNSAFE")}) {
+    // A vertical cylinder stays one under a rotation about z: centred on the frame's origin, it is the base-frame
+    // cylinder around kTurned's (x, y); yaw ranges differ by kYaw.
+    const auto base = cylinder(kTurned.x(), kTurned.y(), 0.47, 0.0, th);
+    auto framed = cylinder(0.0, 0.0, 0.47 - kTurned.z(), -kYaw, th);
+    framed.frame_id = "turned";
+    const auto rb = verify(base);
+    const auto rf = verify(framed);
+    expectSameVerdict(rb, rf, expected, th, kTurned, kYaw);
+
+    // ~verdict: poses in the request's frame.
+    const auto v = verdict.waitFor([&](const VerificationResult& m) { return m.job_id == rf.job_id; });
+    ASSERT_TRUE(v) << "no ~verdict for job " << rf.job_id;
+    EXPECT_EQ(v->header.frame_id, "turned");
+    EXPECT_EQ(v->verdict, rf.verdict);
+
+    // ~boxes: in the base frame, the cylinder around kTurned, turned by kYaw; the witness mapped likewise.
+    const std::string label = "job " + std::to_string(rf.job_id) + ": " + rf.verdict;
+    const auto a = boxes.waitFor([&](const visualization_msgs::MarkerArray& m) {
+      const auto* l = find(m, "label");
+      return l && l->text.find(label) == 0;
+    });
+    ASSERT_TRUE(a) << "no ~boxes for job " << rf.job_id;
+    EXPECT_EQ(a->markers.front().action, visualization_msgs::Marker::DELETEALL);
+    const auto* ws = find(*a, "workspace");
+    ASSERT_TRUE(ws);
+    EXPECT_EQ(ws->header.frame_id, "base_link");
+    EXPECT_EQ(ws->type, visualization_msgs::Marker::CYLINDER);
+    EXPECT_NEAR(ws->pose.position.x, kTurned.x(), 1e-12);
+    EXPECT_NEAR(ws->pose.position.y, kTurned.y(), 1e-12);
+    EXPECT_NEAR(ws->pose.position.z, 0.475, 1e-12);
+    EXPECT_NEAR(ws->pose.orientation.z, std::sin(kYaw / 2), 1e-9);
+    EXPECT_NEAR(ws->pose.orientation.w, std::cos(kYaw / 2), 1e-9);
+    EXPECT_NEAR(ws->scale.x, 0.01, 1e-12);
+    const auto* w = find(*a, "witness");
+    EXPECT_EQ(w != nullptr, rf.has_witness);
+    if (w) {
+      const auto p = toBase(to6(rf.witness_pose), kTurned, kYaw);
+      EXPECT_NEAR(w->pose.position.x, p[0], 1e-12);
+      EXPECT_NEAR(w->pose.position.y, p[1], 1e-12);
+      EXPECT_NEAR(w->pose.position.z, p[2], 1e-12);
+      EXPECT_EQ(w->color.r, 1.0f);
+      EXPECT_EQ(w->color.g, 0.0f);
+    }
+  }
+}
+
+TEST(Frames, BaseFrameByNameIsTheBaseFrame) {
+  auto req = smallRequest(kGenerous);
+  req.threads = 1;
+  const auto a = verify(req);
+  req.frame_id = "base_link";
+  const auto b = verify(req);
+  ASSERT_TRUE(a.success) << a.message;
+  ASSERT_TRUE(b.success) << b.message;
+  EXPECT_EQ(b.verdict, "SAFE");
+  EXPECT_EQ(b.boxes, a.boxes);  // the same search
+}
+
+TEST(Frames, TiltedFrameIsRefusedNamingFrameAndReason) {
+  auto req = translated(smallRequest(kGenerous), Eigen::Vector3d(0, 0, 0.1), "tilted");
+  const auto r = verify(req);
+  EXPECT_FALSE(r.success);
+  EXPECT_EQ(r.verdict, "");
+  EXPECT_NE(r.message.find("frame_id \"tilted\""), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("only rotations about the z axis"), std::string::npos) << r.message;
+}
+
+TEST(Frames, UnknownFrameIsRefusedNamingIt) {
+  auto req = smallRequest(kGenerous);
+  req.frame_id = "no_such_frame";
+  const ros::WallTime t0 = ros::WallTime::now();
+  const auto r = verify(req);
+  EXPECT_LT((ros::WallTime::now() - t0).toSec(), 5.0);  // ~tf_timeout = 1 s
+  EXPECT_FALSE(r.success);
+  EXPECT_EQ(r.verdict, "");
+  EXPECT_NE(r.message.find("frame_id: no transform from frame \"no_such_frame\""), std::string::npos) << r.message;
+  // Still serving.
+  const auto ok = verify(smallRequest(kGenerous));
+  EXPECT_TRUE(ok.success) << ok.message;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "frames_test");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  // The static transforms of frames.test are up before the tests start.
+  tf2_ros::Buffer buffer;
+  tf2_ros::TransformListener listener(buffer);
+  for (const char* frame : {"work", "turned", "tilted"}) {
+    std::string error;
+    if (!buffer.canTransform("base_link", frame, ros::Time(0), ros::Duration(20.0), &error)) {
+      ROS_ERROR("frames_test: no transform base_link <- %s: %s", frame, error.c_str());
+    }
+  }
+  return RUN_ALL_TESTS();
+}
