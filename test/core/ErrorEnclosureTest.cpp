@@ -293,3 +293,51 @@ TEST(ErrorEnclosure, ErrorGradientContainsFiniteDifferencesOfTheWorstError) {
   }
   EXPECT_GT(checked, 5000);
 }
+
+TEST(ErrorEnclosure, EveryMethodBoundsEveryAdmissibleGeometryUnderAnchorUncertainty) {
+  const io::RobotFile rf = test::ref6File();
+  for (const double h : {0.0005, 0.001}) {
+    model::GoughGeometry uncertain = rf.geometry;
+    uncertain.setUniformAnchorUncertainty(h);
+    const model::GoughPlatform robot(uncertain);
+    const domain::Workspace& ws = rf.workspaces.at("paper");
+    std::mt19937_64 rng(31);
+    std::vector<std::unique_ptr<enclosure::ErrorEnclosure>> methods;
+    for (const auto& name : enclosure::enclosureNames()) methods.push_back(enclosure::makeEnclosure(name));
+    int bounded = 0;
+    for (int trial = 0; trial < 150; ++trial) {
+      const IVec box = test::centredSubBox(ws.initialBox(), std::pow(0.5, 3 + trial % 4));
+      IVec shifted(6);
+      const DVec c = test::randomPoint(ws.initialBox(), rng);
+      for (int i = 0; i < 6; ++i) {
+        const double half = 0.5 * box[i].width(), mid = std::min(std::max(c[i], ws.initialBox()[i].lower() + half),
+                                                                 ws.initialBox()[i].upper() - half);
+        shifted[i] = Interval(mid - half, mid + half);
+      }
+      enclosure::BoxInput in;
+      ws.poseView(shifted, true, in);
+      std::vector<enclosure::ErrorBounds> bounds(methods.size());
+      for (std::size_t m = 0; m < methods.size(); ++m) {
+        methods[m]->enclose(robot, in, bounds[m]);
+        bounded += bounds[m].bounded();
+      }
+      // Random admissible geometries (vertices of the uncertainty box and interior points) at random poses.
+      for (int s = 0; s < 4; ++s) {
+        model::GoughGeometry g = rf.geometry;
+        std::uniform_real_distribution<double> u(-h, h);
+        for (auto* pts : {&g.base_anchors, &g.platform_anchors})
+          for (auto& p : *pts)
+            for (int k = 0; k < 3; ++k) p[k] += (s % 2 == 0) ? (rng() % 2 ? h : -h) : u(rng);
+        const model::GoughPlatform sample(g);
+        const DVec q = test::randomPoint(shifted, rng);
+        const DVec f = sample.worstErrorAt(q);
+        for (std::size_t m = 0; m < methods.size(); ++m)
+          for (int k = 0; k < 6; ++k) {
+            EXPECT_LE(f[k], bounds[m].upper[k] * (1 + 1e-12)) << methods[m]->name() << " h=" << h << " k=" << k;
+            EXPECT_GE(f[k], bounds[m].lower[k] * (1 - 1e-12)) << methods[m]->name() << " h=" << h << " k=" << k;
+          }
+      }
+    }
+    EXPECT_GT(bounded, 150);  // the check is not vacuous
+  }
+}

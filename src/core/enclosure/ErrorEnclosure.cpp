@@ -3,20 +3,26 @@
 #include <limits>
 
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/enclosure/CombinedEnclosure.hpp"
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
 #include "pkm_accuracy/core/enclosure/MeanValueEnclosure.hpp"
 #include "pkm_accuracy/core/enclosure/PaperBaselineEnclosure.hpp"
 #include "pkm_accuracy/core/enclosure/PreconditionedEnclosure.hpp"
+#include "pkm_accuracy/core/enclosure/SymbolicPreconditionedEnclosure.hpp"
 
 namespace pkm_accuracy {
 namespace enclosure {
 
-std::vector<std::string> enclosureNames() { return {"second_order", "mean_value", "precond", "paper_baseline"}; }
+std::vector<std::string> enclosureNames() {
+  return {"second_order", "combined", "mean_value", "symbolic_precond", "precond", "paper_baseline"};
+}
 
 std::unique_ptr<ErrorEnclosure> makeEnclosure(const std::string& name) {
   if (name == "second_order" || name == "default") return std::make_unique<MeanValueEnclosure>(true);
   if (name == "mean_value") return std::make_unique<MeanValueEnclosure>(false);
   if (name == "precond") return std::make_unique<PreconditionedEnclosure>();
+  if (name == "symbolic_precond") return std::make_unique<SymbolicPreconditionedEnclosure>();
+  if (name == "combined") return std::make_unique<CombinedEnclosure>();
   if (name == "paper_baseline") return std::make_unique<PaperBaselineEnclosure>();
   std::string list;
   for (const auto& n : enclosureNames()) list += (list.empty() ? "" : ", ") + n;
