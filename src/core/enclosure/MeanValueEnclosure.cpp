@@ -14,6 +14,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   const int vars = box.variables;
   out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
   out.internals.valid = false;
+  out.componentSmear.resize(0, 0);
   out.lower = DVec::Zero(n);
   out.splitScore = DVec::Constant(vars, 1.0);
 
@@ -83,6 +84,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   const DMat remainder = ((magE * magE) * magN) * (1.0 + 1e-13) + DMat::Constant(n, n, 1e-300);
   if (!remainder.allFinite()) return;
   DVec smear = DVec::Zero(vars);
+  out.componentSmear = DMat::Zero(n, vars);
   for (int k = 0; k < n; ++k) {
     Interval rest(0.0);
     IVec v = IVec::Constant(n, Interval(0.0));
@@ -111,7 +113,10 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
     out.lower[k] = std::max(out.lower[k], value.lower());
     // Bisection hint: each variable's share of the width of this bound, relative to the bound.
     if (out.upper[k] > 0.0 && std::isfinite(out.upper[k])) {
-      for (int i = 0; i < vars; ++i) smear[i] = std::max(smear[i], linear[i].mag() / out.upper[k]);
+      for (int i = 0; i < vars; ++i) {
+        out.componentSmear(k, i) = linear[i].mag() / out.upper[k];
+        smear[i] = std::max(smear[i], out.componentSmear(k, i));
+      }
     }
   }
   if (smear.maxCoeff() > 0.0) out.splitScore = smear;

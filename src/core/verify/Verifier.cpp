@@ -165,7 +165,7 @@ class Run {
     // says nothing about the boundary, and centres outside the region can never be witnesses): every other level
     // such a box is split by relative width instead.
     const bool byWidth = where == domain::Containment::Partial && depth % 2 == 1;
-    const int split = chooseSplit(box, depth, bounds, byWidth);
+    const int split = chooseSplit(box, depth, bounds, byWidth, active);
     if (split < 0 || depth % std::max(1, options_.centre_check_period) == 0) {
       checkCentre(box);
       if (options_.mode == Mode::Verify && stop_.load() == static_cast<int>(Stop::Witness)) {
@@ -240,7 +240,8 @@ class Run {
     return true;
   }
 
-  int chooseSplit(const IVec& box, int depth, const enclosure::ErrorBounds& bounds, bool byWidth) const {
+  int chooseSplit(const IVec& box, int depth, const enclosure::ErrorBounds& bounds, bool byWidth,
+                  unsigned active) const {
     int best = -1;
     double bestScore = -1.0;
     auto splittable = [&](int i) { return box[i].upper() - box[i].lower() > minWidth_[i] && initWidth_[i] > 0.0; };
@@ -252,13 +253,27 @@ class Run {
       return -1;
     }
     const bool smear = !byWidth && options_.bisection == Bisection::Smear && bounds.splitScore.size() == m_;
+    // Per-component hints: only the components this box still has to decide count, each weighted by how far its
+    // bound is from its target (threshold, or lower bound + tolerance in max-error mode).
+    DVec score = smear ? DVec(bounds.splitScore) : DVec();
+    if (smear && bounds.componentSmear.rows() == n_ && bounds.componentSmear.cols() == m_) {
+      score = DVec::Zero(m_);
+      for (int k = 0; k < n_; ++k) {
+        if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
+        const double target =
+            options_.mode == Mode::Verify ? options_.thresholds[k] : lower_[k]->load() + tolerance(lower_[k]->load());
+        const double excess = target > 0.0 ? bounds.upper[k] / target : 1.0;
+        for (int i = 0; i < m_; ++i) score[i] = std::max(score[i], excess * bounds.componentSmear(k, i));
+      }
+      if (!(score.maxCoeff() > 0.0)) score = bounds.splitScore;
+    }
     for (int i = 0; i < m_; ++i) {
       if (!splittable(i)) continue;
       const double scaled = (box[i].upper() - box[i].lower()) / initWidth_[i];
       // Smear scores of 0 (a variable that does not matter) still allow splitting by width as a last resort.
-      const double score = smear ? bounds.splitScore[i] + 1e-12 * scaled : scaled;
-      if (score > bestScore) {
-        bestScore = score;
+      const double value = smear ? score[i] + 1e-12 * scaled : scaled;
+      if (value > bestScore) {
+        bestScore = value;
         best = i;
       }
     }

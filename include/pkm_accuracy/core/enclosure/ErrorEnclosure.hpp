@@ -43,6 +43,9 @@ struct ErrorBounds {
   DVec upper;       ///< per component: certified upper bound of f_k over the box (+inf if unbounded)
   DVec lower;       ///< per component: certified lower bound of min f_k over the box (0 if not computed)
   DVec splitScore;  ///< per box variable: estimated share of the overestimation (bisection hint); may be empty
+  /// Per component k and box variable i: share of the width of component k's bound due to variable i (relative
+  /// to the bound), so that a search can split for the components it still needs; may be empty.
+  DMat componentSmear;
   bool bounded() const { return upper.size() > 0 && upper.allFinite(); }
   EnclosureInternals internals;  ///< filled by the mean-value methods
 };
