@@ -2,8 +2,9 @@
 // The node looks the frame up in tf2 (static transforms published by the .test file) and the core composes the
 // transform exactly (domain::TransformedWorkspace): every verdict equals that of the equivalent base-frame request,
 // witnesses lie in the requested frame's workspace and violate the threshold once mapped to the base frame (double
-// oracle), max_error brackets overlap those of the base-frame request, ~verdict and ~boxes use the right frames;
-// a tilted frame and an unknown frame are refused naming frame_id.
+// oracle), max_error brackets overlap those of the base-frame request, ~verdict and ~boxes use the right frames, a
+// tilted frame (general rotation) agrees with its equivalent base-frame request; an unknown frame is refused naming
+// frame_id.
 #include <array>
 #include <cmath>
 #include <functional>
@@ -15,6 +16,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
+#include <Eigen/Geometry>
 
 #include "VerifyHelpers.hpp"
 #include "pkm_accuracy/VerificationResult.h"
@@ -28,6 +30,8 @@ using pkm_accuracy::VerificationResult;
 const Eigen::Vector3d kWork(0.03, -0.02, 0.1);     // work: translated
 const Eigen::Vector3d kTurned(0.01, -0.005, 0.1);  // turned (via table): translated and turned by kYaw about z
 constexpr double kYaw = 0.7;
+const Eigen::Vector3d kTilted(0.02, -0.01, 0.1);  // tilted: translated, roll -0.05, pitch 0.1, yaw 0.3
+const Eigen::Vector3d kTiltedRpy(-0.05, 0.1, 0.3);
 
 /// The base-frame pose of a pose given in a frame placed at `t` and turned by `yaw` about z (double: the oracle).
 std::array<double, 6> toBase(const std::array<double, 6>& p, const Eigen::Vector3d& t, double yaw) {
@@ -210,13 +214,55 @@ TEST(Frames, BaseFrameByNameIsTheBaseFrame) {
   EXPECT_EQ(b.boxes, a.boxes);  // the same search
 }
 
-TEST(Frames, TiltedFrameIsRefusedNamingFrameAndReason) {
-  auto req = translated(smallRequest(kGenerous), Eigen::Vector3d(0, 0, 0.1), "tilted");
-  const auto r = verify(req);
-  EXPECT_FALSE(r.success);
-  EXPECT_EQ(r.verdict, "");
-  EXPECT_NE(r.message.find("frame_id \"tilted\""), std::string::npos) << r.message;
-  EXPECT_NE(r.message.find("only rotations about the z axis"), std::string::npos) << r.message;
+TEST(Frames, TiltedFrameGivesTheVerdictsOfTheBaseFrame) {
+  // A ball maps to a ball under any rigid transform and a fixed orientation to a fixed orientation: the base-frame
+  // request below is the tilted frame's (up to the double rounding of its centre and angles, computed here
+  // independently of tf2 and of the node).
+  const Eigen::Matrix3d rt = (Eigen::AngleAxisd(kTiltedRpy.z(), Eigen::Vector3d::UnitZ()) *
+                              Eigen::AngleAxisd(kTiltedRpy.y(), Eigen::Vector3d::UnitY()) *
+                              Eigen::AngleAxisd(kTiltedRpy.x(), Eigen::Vector3d::UnitX()))
+                                 .toRotationMatrix();
+  const Eigen::Vector3d centreBase(0.01, -0.01, 0.475), rpyFrame(0.02, -0.1, -0.3);
+  const Eigen::Vector3d centreFrame = rt.transpose() * (centreBase - kTilted);
+  const Eigen::Matrix3d n = rt * (Eigen::AngleAxisd(rpyFrame.z(), Eigen::Vector3d::UnitZ()) *
+                                  Eigen::AngleAxisd(rpyFrame.y(), Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(rpyFrame.x(), Eigen::Vector3d::UnitX()))
+                                     .toRotationMatrix();
+  const Eigen::Vector3d rpyBase(std::atan2(n(2, 1), n(2, 2)), std::atan2(-n(2, 0), std::hypot(n(0, 0), n(1, 0))),
+                                std::atan2(n(1, 0), n(0, 0)));
+  auto ball = [](const Eigen::Vector3d& c, const Eigen::Vector3d& rpy, const std::array<double, 6>& th) {
+    VerifyWorkspace::Request r = smallRequest(th);
+    r.region_type = "sphere";
+    r.center.x = c.x();
+    r.center.y = c.y();
+    r.center.z = c.z();
+    r.radius = 0.005;
+    r.roll_min = r.roll_max = rpy.x();
+    r.pitch_min = r.pitch_max = rpy.y();
+    r.yaw_min = r.yaw_max = rpy.z();
+    return r;
+  };
+  for (const auto& [th, expected] : {std::make_pair(kGenerous, "SAFE"), std::make_pair(kTiny, "UNSAFE")}) {
+    const auto base = ball(centreBase, rpyBase, th);
+    auto framed = ball(centreFrame, rpyFrame, th);
+    framed.frame_id = "tilted";
+    const auto rb = verify(base);
+    const auto rf = verify(framed);
+    ASSERT_TRUE(rb.success) << rb.message;
+    ASSERT_TRUE(rf.success) << rf.message;
+    EXPECT_EQ(rb.verdict, expected) << rb.message;
+    EXPECT_EQ(rf.verdict, rb.verdict) << rf.message;
+    if (rf.has_witness) {
+      // In the frame's ball, with the frame's orientation; violating the threshold in the base frame.
+      const auto w = to6(rf.witness_pose);
+      EXPECT_LE((Eigen::Vector3d(w[0], w[1], w[2]) - centreFrame).norm(), 0.005 * (1 + 1e-12));
+      EXPECT_EQ(w[3], rpyFrame.x());
+      const Eigen::Vector3d p = kTilted + rt * Eigen::Vector3d(w[0], w[1], w[2]);
+      const auto c = static_cast<std::size_t>(rf.witness_component);
+      ASSERT_LT(c, 6u);
+      EXPECT_GT(worstErrorAt({p.x(), p.y(), p.z(), rpyBase.x(), rpyBase.y(), rpyBase.z()})[c], th[c]);
+    }
+  }
 }
 
 TEST(Frames, UnknownFrameIsRefusedNamingIt) {

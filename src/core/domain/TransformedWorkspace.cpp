@@ -8,15 +8,54 @@
 
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
+#include "pkm_accuracy/core/interval/InverseTrig.hpp"
 
 namespace pkm_accuracy {
 namespace domain {
+namespace {
+
+using interval::sqr;
+
+/// Rz(yaw) Ry(pitch) Rx(roll) in double.
+Eigen::Matrix3d rpyMatrix(double roll, double pitch, double yaw) {
+  const double sr = std::sin(roll), cr = std::cos(roll), sp = std::sin(pitch), cp = std::cos(pitch);
+  const double sy = std::sin(yaw), cy = std::cos(yaw);
+  Eigen::Matrix3d m;
+  m << cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,  //
+      sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,   //
+      -sp, cp * sr, cp * cr;
+  return m;
+}
+
+/// Principal roll, pitch, yaw of a rotation matrix, in double.
+std::array<double, 3> rpyOf(const Eigen::Matrix3d& m) {
+  return {std::atan2(m(2, 1), m(2, 2)), std::atan2(-m(2, 0), std::hypot(m(0, 0), m(1, 0))),
+          std::atan2(m(1, 0), m(0, 0))};
+}
+
+/// The angle of (x, y) measured from the reference angle a0 (cos c0, sin s0), plus a0: equal to the angle of (x, y)
+/// modulo 2 pi, and continuous away from a0 + pi instead of pi.
+template <typename S>
+S angleFrom(const S& y, const S& x, double a0, const Interval& c0, const Interval& s0) {
+  using interval::atan2;
+  return atan2(y * c0 - x * s0, x * c0 + y * s0) + Interval(a0);
+}
+
+}  // namespace
 
 RigidTransform RigidTransform::fromTranslationYaw(const Eigen::Vector3d& translation, double yaw) {
   RigidTransform t;
   t.translation = translation;
   const double c = std::cos(yaw), s = std::sin(yaw);
   t.rotation << c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0;
+  return t;
+}
+
+RigidTransform RigidTransform::fromTranslationRpy(const Eigen::Vector3d& translation, double roll, double pitch,
+                                                  double yaw) {
+  RigidTransform t;
+  t.translation = translation;
+  t.rotation = rpyMatrix(roll, pitch, yaw);
   return t;
 }
 
@@ -37,37 +76,71 @@ TransformedWorkspace::TransformedWorkspace(Workspace workspace, const RigidTrans
        << ", det R = +1), got one with |R^T R - I| = " << deviation << " and det R = " << r.determinant();
     throw InvalidArgument(os.str());
   }
-  if (r(0, 2) != 0.0 || r(1, 2) != 0.0 || r(2, 0) != 0.0 || r(2, 1) != 0.0) {
-    std::ostringstream os;
-    os.precision(6);
-    os << "transform rotation: only rotations about the z axis of the base frame are supported (roll and pitch of "
-          "the frame both 0; general rotations need interval atan2/asin, not in the core yet), got a frame whose z "
-          "axis is tilted by "
-       << std::atan2(std::hypot(r(0, 2), r(1, 2)), r(2, 2)) << " rad from the base frame's";
-    throw InvalidArgument(os.str());
+  rpy_ = rpyOf(r);
+  aboutZ_ = rpy_[0] == 0.0 && rpy_[1] == 0.0;  // R21 = R20 = 0 (and R22 > 0)
+  if (aboutZ_) {
+    rpy_[0] = rpy_[1] = 0.0;  // no -0
+    rotate_ = rpy_[2] != 0.0;
+    if (rotate_) {
+      cos_ = interval::cosPoint(rpy_[2]);
+      sin_ = interval::sinPoint(rpy_[2]);
+    }
+    rd_ = rpyMatrix(0.0, 0.0, rpy_[2]);
+  } else {
+    const Interval sr = interval::sinPoint(rpy_[0]), cr = interval::cosPoint(rpy_[0]);
+    const Interval sp = interval::sinPoint(rpy_[1]), cp = interval::cosPoint(rpy_[1]);
+    const Interval sy = interval::sinPoint(rpy_[2]), cy = interval::cosPoint(rpy_[2]);
+    r_ = {{{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
+           {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
+           {-sp, cp * sr, cp * cr}}};
+    rd_ = rpyMatrix(rpy_[0], rpy_[1], rpy_[2]);
   }
-  yaw_ = std::atan2(r(1, 0), r(0, 0));
-  rotate_ = yaw_ != 0.0;
-  if (rotate_) {
-    cos_ = interval::cosPoint(yaw_);
-    sin_ = interval::sinPoint(yaw_);
+  const double distance = (rd_ - r).cwiseAbs().maxCoeff();
+  if (!(distance <= kOrthonormalityTolerance)) {
+    std::ostringstream os;
+    os << "transform rotation: its roll, pitch, yaw (" << rpy_[0] << ", " << rpy_[1] << ", " << rpy_[2]
+       << ") give a rotation " << distance << " away from it (more than " << kOrthonormalityTolerance << ")";
+    throw InvalidArgument(os.str());
   }
 }
 
+std::array<double, 2> TransformedWorkspace::referenceAngles(const DVec& t) const {
+  const std::array<double, 3> rpy = rpyOf(rd_ * rpyMatrix(t[3], t[4], t[5]));
+  return {rpy[0], rpy[2]};
+}
+
 template <typename S>
-void TransformedWorkspace::map(const S in[6], S out[6]) const {
-  if (rotate_) {
-    out[0] = cos_ * in[0] - sin_ * in[1];
-    out[1] = sin_ * in[0] + cos_ * in[1];
-    out[5] = in[5] + Interval(yaw_);
+void TransformedWorkspace::map(const S in[6], const std::array<double, 2>& ref, S out[6]) const {
+  if (aboutZ_) {
+    if (rotate_) {
+      out[0] = cos_ * in[0] - sin_ * in[1];
+      out[1] = sin_ * in[0] + cos_ * in[1];
+      out[5] = in[5] + Interval(rpy_[2]);
+    } else {
+      out[0] = in[0];
+      out[1] = in[1];
+      out[5] = in[5];
+    }
+    out[2] = in[2];
+    out[3] = in[3];
+    out[4] = in[4];
   } else {
-    out[0] = in[0];
-    out[1] = in[1];
-    out[5] = in[5];
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    for (int k = 0; k < 3; ++k) out[k] = r_[k][0] * in[0] + r_[k][1] * in[1] + r_[k][2] * in[2];
+    // R_F = Rz(yaw) Ry(pitch) Rx(roll) (columns 0 and 1 and entry (2, 2) are needed), N = R_T R_F.
+    const S sr = sin(in[3]), cr = cos(in[3]), sp = sin(in[4]), cp = cos(in[4]), sy = sin(in[5]), cy = cos(in[5]);
+    const S f0[3] = {cy * cp, sy * cp, -sp};
+    const S f1[3] = {cy * sp * sr - sy * cr, sy * sp * sr + cy * cr, cp * sr};
+    const S f2[3] = {cy * sp * cr + sy * sr, sy * sp * cr - cy * sr, cp * cr};
+    auto n = [&](int i, const S f[3]) { return r_[i][0] * f[0] + r_[i][1] * f[1] + r_[i][2] * f[2]; };
+    const S n00 = n(0, f0), n10 = n(1, f0), n20 = n(2, f0), n21 = n(2, f1), n22 = n(2, f2);
+    using interval::atan2;
+    out[3] = angleFrom(n21, n22, ref[0], interval::cosPoint(ref[0]), interval::sinPoint(ref[0]));
+    out[4] = atan2(-n20, sqrt(sqr(n00) + sqr(n10)));
+    out[5] = angleFrom(n10, n00, ref[1], interval::cosPoint(ref[1]), interval::sinPoint(ref[1]));
   }
-  out[2] = in[2];
-  out[3] = in[3];
-  out[4] = in[4];
   // Zero offsets are skipped so that the identity transform gives exactly the workspace's own poses.
   for (int k = 0; k < 3; ++k) {
     if (translation_[k] != 0.0) out[k] = out[k] + Interval(translation_[k]);
@@ -76,13 +149,15 @@ void TransformedWorkspace::map(const S in[6], S out[6]) const {
 
 void TransformedWorkspace::poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const {
   out.variables = 6;
+  const DVec c = centreOf(box);
+  const std::array<double, 2> ref = aboutZ_ ? std::array<double, 2>{0.0, 0.0} : referenceAngles(c);
   Interval in[6], mapped[6], centre[6], centreMapped[6];
   for (int i = 0; i < 6; ++i) {
     in[i] = box[i];
-    centre[i] = Interval(box[i].mid());
+    centre[i] = Interval(c[i]);
   }
-  map(in, mapped);
-  map(centre, centreMapped);
+  map(in, ref, mapped);
+  map(centre, ref, centreMapped);
   out.pose.resize(6);
   out.centrePose.resize(6);
   out.deviation.resize(6);
@@ -95,15 +170,16 @@ void TransformedWorkspace::poseView(const IVec& box, bool gradient, enclosure::B
   if (gradient) {
     DualI v[6], d[6];
     for (int i = 0; i < 6; ++i) v[i] = DualI::variable(box[i], i);
-    map(v, d);
+    map(v, ref, d);
     for (int i = 0; i < 6; ++i) out.dualPose[i] = d[i];
   }
 }
 
 IVec TransformedWorkspace::poseAt(const DVec& t) const {
+  const std::array<double, 2> ref = aboutZ_ ? std::array<double, 2>{0.0, 0.0} : referenceAngles(t);
   Interval in[6], mapped[6];
   for (int i = 0; i < 6; ++i) in[i] = Interval(t[i]);
-  map(in, mapped);
+  map(in, ref, mapped);
   IVec p(6);
   for (int i = 0; i < 6; ++i) p[i] = mapped[i];
   return p;

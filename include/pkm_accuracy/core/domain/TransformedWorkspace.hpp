@@ -5,17 +5,27 @@
 // The domain is exactly the image of the workspace under T (no enclosing box of it): poseView() maps every box of
 // variables to base-frame poses in interval arithmetic, with the gradient with respect to the variables (Dual).
 //
-// Supported transforms: any translation combined with a rotation about the z axis, R_T = Rz(a). Then
-// Rz(a) Rz(yaw) Ry(pitch) Rx(roll) = Rz(a + yaw) Ry(pitch) Rx(roll) exactly, so roll and pitch are unchanged and
-// yaw_base = yaw + a. Any other rotation is refused (InvalidArgument): the roll/pitch/yaw of R_T R_F need rigorous
-// interval atan2/asin, which the core does not have yet.
+// Two cases:
+//   * R_T a rotation about z, R_T = Rz(a): Rz(a) Rz(yaw) Ry(pitch) Rx(roll) = Rz(a + yaw) Ry(pitch) Rx(roll)
+//     exactly, so roll and pitch are unchanged and yaw_base = yaw + a (cheap and tight; the identity transform gives
+//     the workspace's own poses bit for bit);
+//   * any other rotation: the base-frame roll, pitch, yaw are the principal RPY of N = R_T R_F through rigorous
+//     interval atan2 (interval/InverseTrig.hpp): roll = atan2(N21, N22), pitch = atan2(-N20, sqrt(N00^2 + N10^2)),
+//     yaw = atan2(N10, N00). Roll and yaw are measured from reference angles taken at the box centre, so a box whose
+//     base-frame roll or yaw crosses +-pi is not blown up to [-pi, pi] (the model only uses their sine and cosine,
+//     so any representative modulo 2 pi is the same pose). Near base-frame pitch = +-pi/2 (gimbal lock) roll and
+//     yaw are undefined and their enclosures and derivative enclosures blow up (sound; the verifier then needs many
+//     boxes there or leaves them undecided).
 //
-// What "exactly" means in floating point: the translation is used as given; the rotation is the exact rotation by
-// the double angle a = atan2(R(1,0), R(0,0)) (the given matrix, an orthonormal double matrix whose off-z entries
-// R(0,2), R(1,2), R(2,0), R(2,1) are exactly 0, is within a few 1e-16 of it); cos a and sin a are certified
-// enclosures. Every pose of the domain is enclosed, every enclosure is certified.
+// What "exactly" means in floating point: the translation is used as given; the rotation is the exact rotation
+// Rz(c) Ry(b) Rx(a) of the double angles (a, b, c) = RPY of the given matrix R (roll = atan2(R21, R22), pitch =
+// atan2(-R20, hypot(R00, R10)), yaw = atan2(R10, R00), evaluated in double; it is within a few 1e-16 of an
+// orthonormal R, and must be within kOrthonormalityTolerance of R); its sines and cosines are certified enclosures.
+// A rotation about z (R20 = R21 = 0 exactly, as for every tf2 quaternion with x = y = 0) has a = b = 0. Every pose of
+// the domain is enclosed, every enclosure is certified.
 #pragma once
 
+#include <array>
 #include <string>
 
 #include <Eigen/Core>
@@ -32,18 +42,19 @@ struct RigidTransform {
 
   /// (t, Rz(yaw)) with the rotation matrix computed in double (its off-z entries are exactly 0).
   static RigidTransform fromTranslationYaw(const Eigen::Vector3d& translation, double yaw);
+  /// (t, Rz(yaw) Ry(pitch) Rx(roll)) with the rotation matrix computed in double.
+  static RigidTransform fromTranslationRpy(const Eigen::Vector3d& translation, double roll, double pitch, double yaw);
 };
 
 class TransformedWorkspace final : public Domain {
  public:
-  /// Largest deviation of R^T R from the identity accepted as "orthonormal".
+  /// Largest deviation of R^T R from the identity, and of the rotation used from R, accepted.
   static constexpr double kOrthonormalityTolerance = 1e-9;
 
   /// @param workspace the workspace in frame F (region and angle ranges)
   /// @param base_from_frame the pose of F in the base frame
-  /// @throws InvalidArgument if the translation or rotation is not finite, the rotation is not a rotation matrix
-  ///         (orthonormal within kOrthonormalityTolerance, determinant +1), or it is not a rotation about the z axis
-  ///         (the message says which and by how much the z axis is tilted).
+  /// @throws InvalidArgument if the translation or rotation is not finite or the rotation is not a rotation matrix
+  ///         (orthonormal within kOrthonormalityTolerance, determinant +1); the message names which.
   TransformedWorkspace(Workspace workspace, const RigidTransform& base_from_frame);
 
   int variables() const override { return 6; }
@@ -59,19 +70,28 @@ class TransformedWorkspace final : public Domain {
   IVec poseAt(const DVec& t) const override;
 
   const Workspace& workspace() const { return workspace_; }
-  /// The rotation angle a about z of the transform actually used (rad).
-  double yawOffset() const { return yaw_; }
+  /// Roll, pitch, yaw of the rotation R_T actually used (rad).
+  const std::array<double, 3>& rotationRpy() const { return rpy_; }
+  /// True when R_T is a rotation about z (roll = pitch = 0: the cheap exact case).
+  bool aboutZ() const { return aboutZ_; }
+  /// The rotation angle about z of the transform when aboutZ() (rad).
+  double yawOffset() const { return rpy_[2]; }
   const Eigen::Vector3d& translation() const { return translation_; }
 
  private:
+  /// Reference angles (roll, yaw) of the base-frame orientation, in double, at a point of the variables.
+  std::array<double, 2> referenceAngles(const DVec& t) const;
   template <typename S>
-  void map(const S in[6], S out[6]) const;
+  void map(const S in[6], const std::array<double, 2>& ref, S out[6]) const;
 
   Workspace workspace_;
   Eigen::Vector3d translation_;
-  double yaw_ = 0.0;
-  bool rotate_ = false;  ///< yaw_ != 0 (otherwise x, y, yaw pass through unchanged)
-  Interval cos_ = Interval(1.0), sin_ = Interval(0.0);
+  std::array<double, 3> rpy_{};
+  bool aboutZ_ = true;
+  bool rotate_ = false;  ///< aboutZ_ and yaw != 0 (otherwise x, y, yaw pass through unchanged)
+  Interval cos_ = Interval(1.0), sin_ = Interval(0.0);  ///< aboutZ_: cos and sin of the yaw
+  std::array<std::array<Interval, 3>, 3> r_;            ///< general case: enclosure of the entries of Rz(c) Ry(b) Rx(a)
+  Eigen::Matrix3d rd_ = Eigen::Matrix3d::Identity();    ///< the same in double (reference angles only)
 };
 
 }  // namespace domain
