@@ -177,12 +177,15 @@ TEST(Verifier, BudgetsAndCancellationGiveUndecidedWithTheirReason) {
   EXPECT_EQ(r.verdict, Verdict::Undecided);
   EXPECT_EQ(r.reason, verify::UndecidedReason::Cancelled);
 
+  // The time budget on a job that needs minutes: the whole paper workspace at +5% of its (corner) maxima.
+  SubWorkspace whole(1.0);
   o.cancel = nullptr;
+  o.thresholds = sampledMaxima(whole.robot, whole.ws.initialBox(), 2000, 9) * 1.05;
   o.time_limit_s = 0.2;
   int calls = 0;
   o.progress = [&](const verify::Progress&) { ++calls; };
   o.progress_period_s = 0.05;
-  r = verify::Verifier::run(s.robot, s.ws, o);
+  r = verify::Verifier::run(whole.robot, whole.ws, o);
   EXPECT_EQ(r.verdict, Verdict::Undecided);
   EXPECT_EQ(r.reason, verify::UndecidedReason::TimeBudget);
   EXPECT_LT(r.stats.seconds, 2.0);
