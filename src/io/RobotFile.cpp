@@ -5,54 +5,18 @@
 #include <cmath>
 #include <sstream>
 
+#include "YamlReading.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 
 namespace pkm_accuracy {
 namespace io {
 namespace {
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) { throw ParseError(where + ": " + what); }
-
-double number(const YAML::Node& n, const std::string& where) {
-  if (!n || !n.IsScalar()) fail(where, "expected a number");
-  try {
-    return n.as<double>();
-  } catch (const YAML::Exception&) {
-    fail(where, "expected a number, got '" + n.Scalar() + "'");
-  }
-}
-
-std::vector<double> numbers(const YAML::Node& n, const std::string& where, std::size_t expected = 0) {
-  if (!n || !n.IsSequence()) fail(where, "expected a list of numbers");
-  if (expected > 0 && n.size() != expected) {
-    fail(where, "expected " + std::to_string(expected) + " numbers, got " + std::to_string(n.size()));
-  }
-  std::vector<double> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], where + "[" + std::to_string(i) + "]"));
-  return v;
-}
-
-Eigen::Vector3d vec3(const YAML::Node& n, const std::string& where) {
-  const auto v = numbers(n, where, 3);
-  return Eigen::Vector3d(v[0], v[1], v[2]);
-}
-
-std::vector<Eigen::Vector3d> points(const YAML::Node& n, const std::string& where) {
-  if (!n || !n.IsSequence()) fail(where, "expected a list of [x, y, z] points");
-  std::vector<Eigen::Vector3d> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(vec3(n[i], where + "[" + std::to_string(i) + "]"));
-  return v;
-}
-
-Interval range(const YAML::Node& n, const std::string& where) {
-  const auto v = numbers(n, where, 2);
-  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !(v[0] <= v[1])) {
-    std::ostringstream os;
-    os << "expected a finite range [min, max] with min <= max, got [" << v[0] << ", " << v[1] << "]";
-    fail(where, os.str());
-  }
-  return Interval(v[0], v[1]);
-}
+using yaml::fail;
+using yaml::number;
+using yaml::numbers;
+using yaml::range;
+using yaml::vec3;
 
 domain::Workspace workspace(const YAML::Node& n, const std::string& where) {
   if (!n || !n.IsMap()) fail(where, "expected a map with keys x, y, z, roll, pitch, yaw");
@@ -81,7 +45,7 @@ domain::Workspace workspace(const YAML::Node& n, const std::string& where) {
     }
     if (type == "polyhedron") {
       return domain::Workspace(
-          domain::PositionRegion::polyhedron(points(reg["normals"], where + ".region.normals"),
+          domain::PositionRegion::polyhedron(yaml::points3(reg["normals"], where + ".region.normals"),
                                              numbers(reg["offsets"], where + ".region.offsets"), lo, hi),
           orientation);
     }
@@ -93,25 +57,15 @@ domain::Workspace workspace(const YAML::Node& n, const std::string& where) {
   fail(where + ".region.type", "expected box, cylinder, sphere or polyhedron, got '" + type + "'");
 }
 
-YAML::Node loadYaml(const std::string& path) {
-  try {
-    return YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw ParseError(path + ": cannot open file");
-  } catch (const YAML::Exception& e) {
-    throw ParseError(path + ": invalid YAML: " + e.what());
-  }
-}
-
 }  // namespace
 
 RobotFile loadRobotFile(const std::string& path) {
-  const YAML::Node root = loadYaml(path);
+  const YAML::Node root = yaml::loadFile(path);
   if (!root.IsMap()) throw ParseError(path + ": expected a YAML map at top level");
   RobotFile out;
   model::GoughGeometry& g = out.geometry;
-  g.base_anchors = points(root["base_anchors"], path + ": base_anchors");
-  g.platform_anchors = points(root["platform_anchors"], path + ": platform_anchors");
+  g.base_anchors = yaml::points3(root["base_anchors"], path + ": base_anchors");
+  g.platform_anchors = yaml::points3(root["platform_anchors"], path + ": platform_anchors");
   const YAML::Node se = root["sensor_error"];
   if (se && se.IsScalar()) {
     g.sensor_error.assign(g.base_anchors.size(), number(se, path + ": sensor_error"));
@@ -141,7 +95,7 @@ RobotFile loadRobotFile(const std::string& path) {
 }
 
 domain::Workspace parseWorkspaceFile(const std::string& path) {
-  const YAML::Node root = loadYaml(path);
+  const YAML::Node root = yaml::loadFile(path);
   return workspace(root, path);
 }
 

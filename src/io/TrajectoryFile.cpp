@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "YamlReading.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 #include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
@@ -18,78 +19,14 @@ namespace {
 
 const char* kPoseKeys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) { throw ParseError(where + ": " + what); }
-
-std::string show(const YAML::Node& n) {
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
-  if (n.IsSequence()) return "a list";
-  if (n.IsMap()) return "a map";
-  return "nothing";
-}
-
-/// A finite number.
-double number(const YAML::Node& n, const std::string& where) {
-  if (!n || !n.IsScalar()) fail(where, "expected a number, got " + (n ? show(n) : std::string("nothing")));
-  double v;
-  try {
-    v = n.as<double>();
-  } catch (const YAML::Exception&) {
-    fail(where, "expected a number, got '" + n.Scalar() + "'");
-  }
-  if (!std::isfinite(v)) fail(where, "expected a finite number, got '" + n.Scalar() + "'");
-  return v;
-}
-
-std::vector<double> numbers(const YAML::Node& n, const std::string& where, std::size_t expected = 0,
-                            const std::string& shape = "") {
-  if (!n || !n.IsSequence()) {
-    fail(where, "expected a list of " + (expected ? std::to_string(expected) + " numbers" : std::string("numbers")) +
-                    shape + ", got " + (n ? show(n) : std::string("nothing")));
-  }
-  if (expected > 0 && n.size() != expected) {
-    fail(where, "expected " + std::to_string(expected) + " numbers" + shape + ", got " + std::to_string(n.size()));
-  }
-  std::vector<double> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], where + "[" + std::to_string(i) + "]"));
-  return v;
-}
-
-int integer(const YAML::Node& n, const std::string& where, int lo, int hi) {
-  const double v = number(n, where);
-  if (v != std::floor(v) || v < lo || v > hi) {
-    std::ostringstream os;
-    os << "expected an integer from " << lo << " to " << hi << ", got '" << n.Scalar() << "'";
-    fail(where, os.str());
-  }
-  return static_cast<int>(v);
-}
-
-void checkKeys(const YAML::Node& map, const std::string& where, const std::set<std::string>& allowed) {
-  for (const auto& kv : map) {
-    const std::string key = kv.first.Scalar();
-    if (!allowed.count(key)) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail(!where.empty() && where.back() == ':' ? where + " " + key : where + "." + key,
-           "unknown key (expected one of " + list + ")");
-    }
-  }
-}
-
-Eigen::Vector3d vec3(const YAML::Node& n, const std::string& where) {
-  const auto v = numbers(n, where, 3);
-  return Eigen::Vector3d(v[0], v[1], v[2]);
-}
-
-Interval range(const YAML::Node& n, const std::string& where) {
-  const auto v = numbers(n, where, 2, " [min, max]");
-  if (!(v[0] <= v[1])) {
-    std::ostringstream os;
-    os << "expected a range [min, max] with min <= max, got [" << v[0] << ", " << v[1] << "]";
-    fail(where, os.str());
-  }
-  return Interval(v[0], v[1]);
-}
+using yaml::checkKeys;
+using yaml::fail;
+using yaml::integer;
+using yaml::number;
+using yaml::numbers;
+using yaml::range;
+using yaml::show;
+using yaml::vec3;
 
 domain::PositionRegion region(const YAML::Node& n, const std::string& where) {
   if (!n.IsMap() || !n["type"]) fail(where, "expected a map with a 'type' key (box, cylinder, sphere, polyhedron)");
@@ -296,17 +233,7 @@ TrajectoryFile parseTrajectory(const std::string& yamlText, const std::string& n
   return build(root, name);
 }
 
-TrajectoryFile loadTrajectoryFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw ParseError(path + ": cannot open file");
-  } catch (const YAML::Exception& e) {
-    throw ParseError(path + ": invalid YAML: " + e.what());
-  }
-  return build(root, path);
-}
+TrajectoryFile loadTrajectoryFile(const std::string& path) { return build(yaml::loadFile(path), path); }
 
 }  // namespace io
 }  // namespace pkm_accuracy
