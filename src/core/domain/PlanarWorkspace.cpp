@@ -55,20 +55,7 @@ PlanarWorkspace PlanarWorkspace::disc(const Eigen::Vector2d& centre, double radi
 std::string PlanarWorkspace::variableName(int i) const { return (i >= 0 && i < 3) ? kNames[i] : "?"; }
 
 void PlanarWorkspace::poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const {
-  out.variables = 3;
-  out.pose = box;
-  out.centrePose.resize(3);
-  out.deviation.resize(3);
-  for (int i = 0; i < 3; ++i) {
-    const double c = box[i].mid();
-    out.centrePose[i] = Interval(c);
-    out.deviation[i] = box[i] - Interval(c);
-  }
-  out.hasGradient = gradient;
-  if (gradient) {
-    for (int i = 0; i < 3; ++i) out.dualPose[i] = DualI::variable(box[i], i);
-    for (int i = 3; i < kMaxDof; ++i) out.dualPose[i] = DualI(Interval(0.0));
-  }
+  identityPoseView(box, gradient, out);
 }
 
 Containment PlanarWorkspace::classify(const IVec& box) const {

@@ -39,19 +39,7 @@ Workspace Workspace::fromRanges(const std::array<Interval, 6>& ranges) {
 std::string Workspace::variableName(int i) const { return (i >= 0 && i < 6) ? kNames[i] : "?"; }
 
 void Workspace::poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const {
-  out.variables = 6;
-  out.pose = box;
-  out.centrePose.resize(6);
-  out.deviation.resize(6);
-  for (int i = 0; i < 6; ++i) {
-    const double c = box[i].mid();
-    out.centrePose[i] = Interval(c);
-    out.deviation[i] = box[i] - Interval(c);
-  }
-  out.hasGradient = gradient;
-  if (gradient) {
-    for (int i = 0; i < 6; ++i) out.dualPose[i] = DualI::variable(box[i], i);
-  }
+  identityPoseView(box, gradient, out);
 }
 
 Containment Workspace::classify(const IVec& box) const { return region_.classify(box[0], box[1], box[2]); }

@@ -35,5 +35,9 @@ class Domain {
 /// The centre of a box (exactly representable: the midpoint of each interval).
 DVec centreOf(const IVec& box);
 
+/// The pose view of a box for domains whose variables are the pose coordinates themselves (identity map):
+/// the poses are the box, the centre pose its (exact) centre, the gradient the identity.
+void identityPoseView(const IVec& box, bool gradient, enclosure::BoxInput& out);
+
 }  // namespace domain
 }  // namespace pkm_accuracy
