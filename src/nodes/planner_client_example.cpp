@@ -1,20 +1,28 @@
-// planner_client_example: how a motion planner uses the accuracy_checker node. Before "executing" a motion whose
-// poses sweep a workspace, it asks the node to certify that the worst-case pose error stays within the task's
-// tolerances over that whole workspace, waits for the verdict, and executes only when it is SAFE. UNSAFE (a pose
-// provably violating a tolerance), UNDECIDED (e.g. the time budget ran out) and failures all mean "do not execute".
-// (A trajectory check would go to /verify_trajectory, which the node does not offer yet.)
+// planner_client_example: how a motion planner uses the accuracy_checker node. Before "executing" a motion, it asks
+// the node to certify that the worst-case pose error stays within the task's tolerances, waits for the verdict, and
+// executes only when it is SAFE. UNSAFE (a pose provably violating a tolerance), UNDECIDED (e.g. the time budget ran
+// out) and failures all mean "do not execute".
 //
-// Both interfaces of the node are shown: the action ~verify_workspace (default; feedback while it runs, cancellable,
-// here cancelled if no verdict arrives in time) and the service /verify_workspace (~use_action: false). A "busy"
-// answer (the node runs ~max_parallel_jobs jobs already) is retried until ~timeout.
+// ~mode "workspace" (default): the motion is described by the workspace its poses sweep, checked through the action
+// ~verify_workspace (default; feedback while it runs, cancellable, here cancelled if no verdict arrives in time) or
+// the service /verify_workspace (~use_action: false).
+// ~mode "trajectory": the motion is the planned trajectory itself, timed waypoints checked through the service
+// /verify_trajectory (every pose between the waypoints is verified, not only the waypoints).
+// A "busy" answer (the node runs ~max_parallel_jobs jobs already) is retried until ~timeout.
 //
 // Parameters (private):
-//   ~use_action (bool, true)    ~action (string, /pkm_accuracy/verify_workspace)    ~service (/verify_workspace)
-//   ~frame_id (string, "": the robot's base frame)
-//   ~box_min, ~box_max ([x, y, z], m; default a 2 cm box around [0, 0, 0.475])
-//   ~angle_min, ~angle_max ([roll, pitch, yaw], rad; default +-0.01)
-//   ~tolerances ([dx, dy, dz (m), drx, dry, drz (rad)]; default 1e-3 m, 1e-2 rad)
-//   ~time_budget (s, 10)    ~timeout (s, 60: for the node to appear and answer)
+//   ~mode (string, "workspace" | "trajectory")    ~tolerances ([dx, dy, dz (m), drx, dry, drz (rad)]; default 1e-3 m,
+//   1e-2 rad)    ~time_budget (s, 10)    ~timeout (s, 60: for the node to appear and answer)
+//   workspace mode:
+//     ~use_action (bool, true)    ~action (string, /pkm_accuracy/verify_workspace)    ~service (/verify_workspace)
+//     ~frame_id (string, "": the robot's base frame)
+//     ~box_min, ~box_max ([x, y, z], m; default a 2 cm box around [0, 0, 0.475])
+//     ~angle_min, ~angle_max ([roll, pitch, yaw], rad; default +-0.01)
+//   trajectory mode:
+//     ~trajectory_service (string, /verify_trajectory)
+//     ~waypoints (flat list, 7 numbers per waypoint: t (s), x, y, z (m, base frame), roll, pitch, yaw (rad),
+//       R = Rz(yaw) Ry(pitch) Rx(roll); default 3 waypoints over 3 s inside a 2 cm box around [0, 0, 0.475])
+//     ~interpolation (string, "slerp" | "linear_rpy"; default slerp)
 //   ~exit_when_done (bool, true): exit after the decision (status 0: executed, 1: not executed, 2: no answer or an
 //     invalid parameter: a malformed list is an error, never replaced by the default);
 //     false: keep running (the latched ~decision stays available)
@@ -22,6 +30,7 @@
 //
 //   rosparam set /planner_client_example/tolerances "[1.0e-4, 1.0e-4, 1.0e-4, 1.0e-3, 1.0e-3, 1.0e-3]"
 //   rosrun pkm_accuracy planner_client_example        (lists cannot be given as _name:=value to a roscpp node)
+//   rosrun pkm_accuracy planner_client_example _mode:=trajectory
 #include <algorithm>
 #include <cstdio>
 #include <stdexcept>
@@ -32,11 +41,13 @@
 #include <ros/ros.h>
 #include <std_msgs/String.h>
 
+#include "pkm_accuracy/VerifyTrajectory.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/VerifyWorkspaceAction.h"
 
 namespace {
 
+using pkm_accuracy::VerifyTrajectory;
 using pkm_accuracy::VerifyWorkspace;
 using pkm_accuracy::VerifyWorkspaceAction;
 using pkm_accuracy::VerifyWorkspaceGoal;
@@ -51,6 +62,8 @@ struct Verdict {
   bool has_witness = false;
   std::vector<double> witness_pose;
   int witness_component = -1;
+  bool has_witness_t = false;  ///< trajectory mode: witness_t is set
+  double witness_t = 0.0;      ///< s
 };
 
 template <class Answer>
@@ -81,6 +94,21 @@ std::vector<double> param(ros::NodeHandle& pnh, const std::string& key, const st
   return v;
 }
 
+/// ~waypoints: a flat list of 7 numbers per waypoint (t, x, y, z, roll, pitch, yaw), at least two waypoints.
+std::vector<double> waypointsParam(ros::NodeHandle& pnh) {
+  const std::vector<double> fallback = {0.0, -0.01, 0.01,   0.47,  0.0,   -0.01, 0.005,  //
+                                        1.0, 0.0,   -0.005, 0.475, 0.01,  0.0,   -0.01,  //
+                                        3.0, 0.01,  -0.01,  0.48,  -0.01, 0.01,  0.0};
+  if (!pnh.hasParam("waypoints")) return fallback;
+  std::vector<double> v;
+  if (!pnh.getParam("waypoints", v) || v.size() < 14 || v.size() % 7 != 0) {
+    throw std::invalid_argument(pnh.resolveName("waypoints") +
+                                ": expected a flat list of 7 numbers per waypoint (t, x, y, z, roll, pitch, yaw), at "
+                                "least two waypoints (in YAML write 1.0e-6, not 1e-6, which is a string)");
+  }
+  return v;
+}
+
 /// The workspace the planned motion sweeps, and the task's tolerances (the goal and the request have the same
 /// fields). @throws std::invalid_argument on a malformed parameter.
 template <class Request>
@@ -105,6 +133,42 @@ void fill(ros::NodeHandle& pnh, Request& r) {
   r.mode = VerifyWorkspace::Request::MODE_VERIFY;
   r.time_budget = pnh.param("time_budget", 10.0);
   r.frame_id = pnh.param<std::string>("frame_id", "");
+}
+
+/// The planned trajectory and the task's tolerances. @throws std::invalid_argument on a malformed parameter.
+void fillTrajectory(ros::NodeHandle& pnh, VerifyTrajectory::Request& r) {
+  const std::vector<double> w = waypointsParam(pnh);
+  const std::vector<double> tolerances = param(pnh, "tolerances", {1e-3, 1e-3, 1e-3, 1e-2, 1e-2, 1e-2}, 6);
+  std::vector<double>* columns[7] = {&r.times, &r.x, &r.y, &r.z, &r.roll, &r.pitch, &r.yaw};
+  for (std::size_t i = 0; i < w.size(); ++i) columns[i % 7]->push_back(w[i]);
+  r.interpolation = pnh.param<std::string>("interpolation", VerifyTrajectory::Request::INTERPOLATION_SLERP);
+  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = tolerances[k];
+  r.mode = VerifyTrajectory::Request::MODE_VERIFY;
+  r.time_budget = pnh.param("time_budget", 10.0);
+}
+
+Verdict askForTrajectory(ros::NodeHandle& pnh, const ros::WallTime& deadline) {
+  const std::string name = pnh.param<std::string>("trajectory_service", "/verify_trajectory");
+  VerifyTrajectory srv;
+  fillTrajectory(pnh, srv.request);
+  if (!ros::service::waitForService(name, ros::Duration(std::max(0.0, (deadline - ros::WallTime::now()).toSec())))) {
+    ROS_ERROR("no service %s", name.c_str());
+    return Verdict();
+  }
+  while (ros::ok()) {
+    ROS_INFO("asking %s to verify the trajectory (%zu waypoints)", name.c_str(), srv.request.times.size());
+    if (!ros::service::call(name, srv)) {
+      ROS_ERROR("calling %s failed", name.c_str());
+      return Verdict();
+    }
+    Verdict v = fromAnswer(srv.response);
+    v.has_witness_t = srv.response.has_witness;
+    v.witness_t = srv.response.witness_t;
+    if (!v.busy || ros::WallTime::now() > deadline) return v;
+    ROS_INFO("the node is busy (%s); retrying", v.message.c_str());
+    ros::WallDuration(0.2).sleep();
+  }
+  return Verdict();
 }
 
 Verdict askByAction(ros::NodeHandle& pnh, const ros::WallTime& deadline) {
@@ -174,7 +238,15 @@ int main(int argc, char** argv) {
   int status = 1;
   Verdict v;
   try {
-    v = pnh.param("use_action", true) ? askByAction(pnh, deadline) : askByService(pnh, deadline);
+    const std::string mode = pnh.param<std::string>("mode", "workspace");
+    if (mode == "trajectory") {
+      v = askForTrajectory(pnh, deadline);
+    } else if (mode == "workspace") {
+      v = pnh.param("use_action", true) ? askByAction(pnh, deadline) : askByService(pnh, deadline);
+    } else {
+      throw std::invalid_argument(pnh.resolveName("mode") + ": expected \"workspace\" or \"trajectory\", got \"" +
+                                  mode + "\"");
+    }
   } catch (const std::invalid_argument& e) {
     ROS_ERROR("%s", e.what());
     msg.data = std::string("not executing: invalid parameter: ") + e.what();
@@ -192,11 +264,13 @@ int main(int argc, char** argv) {
     status = 0;
   } else if (v.verdict == VerifyWorkspace::Response::VERDICT_UNSAFE && v.has_witness && v.witness_pose.size() == 6) {
     const char* names[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
-    char why[256];
+    char when[64] = "";
+    if (v.has_witness_t) std::snprintf(when, sizeof(when), "t=%.4f s, ", v.witness_t);
+    char why[320];
     std::snprintf(why, sizeof(why),
-                  "not executing: UNSAFE, the %s tolerance is exceeded at x=%.4f y=%.4f z=%.4f roll=%.4f pitch=%.4f "
-                  "yaw=%.4f",
-                  v.witness_component >= 0 && v.witness_component < 6 ? names[v.witness_component] : "?",
+                  "not executing: UNSAFE, the %s tolerance is exceeded at %sx=%.4f y=%.4f z=%.4f roll=%.4f "
+                  "pitch=%.4f yaw=%.4f",
+                  v.witness_component >= 0 && v.witness_component < 6 ? names[v.witness_component] : "?", when,
                   v.witness_pose[0], v.witness_pose[1], v.witness_pose[2], v.witness_pose[3], v.witness_pose[4],
                   v.witness_pose[5]);
     msg.data = why;

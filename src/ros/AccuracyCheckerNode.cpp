@@ -18,6 +18,7 @@
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/ros/BoxMarkers.hpp"
+#include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
 #include "pkm_accuracy/ros/VerifyWorkspaceConversion.hpp"
 
 namespace pkm_accuracy {
@@ -95,6 +96,7 @@ AccuracyCheckerNode::~AccuracyCheckerNode() {
   reapActionThreads(true);
   action_server_.reset();
   verify_workspace_srv_.shutdown();
+  verify_trajectory_srv_.shutdown();
   cancel_srv_.shutdown();
   describe_srv_.shutdown();
 }
@@ -199,6 +201,8 @@ bool AccuracyCheckerNode::start(std::string& error) {
   verify_nh.setCallbackQueue(&verify_queue_);
   verify_workspace_srv_ =
       verify_nh.advertiseService(kVerifyWorkspaceService, &AccuracyCheckerNode::onVerifyWorkspace, this);
+  verify_trajectory_srv_ =
+      verify_nh.advertiseService(kVerifyTrajectoryService, &AccuracyCheckerNode::onVerifyTrajectory, this);
   ros::NodeHandle action_nh(pnh_);
   action_nh.setCallbackQueue(&verify_queue_);
   action_server_.reset(new ActionServer(
@@ -209,11 +213,11 @@ bool AccuracyCheckerNode::start(std::string& error) {
   verify_spinner_->start();
 
   if (pnh_.param("publish_anchor_frames", true)) publishAnchorFrames();
-  ROS_INFO("Services: %s, %s, %s; action: %s; topics: %s, %s, %s (at most %d job(s) at once)",
+  ROS_INFO("Services: %s, %s, %s, %s; action: %s; topics: %s, %s, %s (at most %d job(s) at once)",
            describe_srv_.getService().c_str(), cancel_srv_.getService().c_str(),
-           verify_workspace_srv_.getService().c_str(), pnh_.resolveName(kVerifyWorkspaceAction).c_str(),
-           verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(),
-           max_parallel_jobs_);
+           verify_workspace_srv_.getService().c_str(), verify_trajectory_srv_.getService().c_str(),
+           pnh_.resolveName(kVerifyWorkspaceAction).c_str(), verdict_pub_.getTopic().c_str(),
+           progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(), max_parallel_jobs_);
   return true;
 }
 
@@ -333,8 +337,14 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
   try {
     const std::string mode = modeName(query.mode);
     const std::string frame = query.frame_id.empty() ? names_.base_link : query.frame_id;
-    ROS_INFO("%s: job %lu started (%s, %s region in frame %s)", via.c_str(), static_cast<unsigned long>(id),
-             mode.c_str(), toString(query.workspace.position.type).c_str(), frame.c_str());
+    if (query.is_trajectory) {
+      ROS_INFO("%s: job %lu started (%s, trajectory of %lu waypoints over [%g, %g] s in frame %s)", via.c_str(),
+               static_cast<unsigned long>(id), mode.c_str(), static_cast<unsigned long>(query.trajectory.times.size()),
+               query.trajectory.times.front(), query.trajectory.times.back(), frame.c_str());
+    } else {
+      ROS_INFO("%s: job %lu started (%s, %s region in frame %s)", via.c_str(), static_cast<unsigned long>(id),
+               mode.c_str(), toString(query.workspace.position.type).c_str(), frame.c_str());
+    }
 
     std::string error;
     if (!resolveFrame(query, error)) {
@@ -399,8 +409,11 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
       progress_pub_.publish(last);
     }
     if (outcome.success) {
-      boxes_pub_.publish(makeJobMarkers(query, outcome, names_.base_link, result.header.stamp,
-                                        static_cast<std::size_t>(max_box_markers_)));
+      // ~boxes draws workspace boxes; a trajectory's boxes are time intervals (in the response instead).
+      if (!query.is_trajectory) {
+        boxes_pub_.publish(makeJobMarkers(query, outcome, names_.base_link, result.header.stamp,
+                                          static_cast<std::size_t>(max_box_markers_)));
+      }
       ROS_INFO("%s: job %lu: %s%s%s in %.3f s, %lu boxes: %s", via.c_str(), static_cast<unsigned long>(id),
                outcome.verdict.c_str(), outcome.reason.empty() ? "" : " ", outcome.reason.c_str(), outcome.seconds,
                static_cast<unsigned long>(outcome.boxes), outcome.message.c_str());
@@ -450,6 +463,36 @@ bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, Verif
     ROS_ERROR("%s: %s", kVerifyWorkspaceService, res.message.c_str());
   }
   return true;  // the answer is in success/message; never make the client see a transport error
+}
+
+bool AccuracyCheckerNode::onVerifyTrajectory(VerifyTrajectory::Request& req, VerifyTrajectory::Response& res) {
+  try {
+    res = VerifyTrajectory::Response();
+    WorkspaceQuery query;
+    std::string error;
+    if (!fromRequest(req, names_.base_link, defaults_, query, error)) {
+      res.message = "invalid request: " + error;
+      ROS_WARN("%s: %s", kVerifyTrajectoryService, res.message.c_str());
+      return true;
+    }
+    WorkspaceOutcome outcome;
+    const std::shared_ptr<Job> job = admit(outcome);
+    if (!job) {
+      toResponse(outcome, res);
+      ROS_WARN("%s: %s", kVerifyTrajectoryService, res.message.c_str());
+      return true;
+    }
+    toResponse(runJob(job, query, kVerifyTrajectoryService, nullptr), res);
+  } catch (const std::exception& e) {
+    res = VerifyTrajectory::Response();
+    res.message = std::string("verification failed: ") + e.what();
+    ROS_ERROR("%s: %s", kVerifyTrajectoryService, res.message.c_str());
+  } catch (...) {
+    res = VerifyTrajectory::Response();
+    res.message = "verification failed: unknown exception";
+    ROS_ERROR("%s: %s", kVerifyTrajectoryService, res.message.c_str());
+  }
+  return true;  // the answer is in success/message
 }
 
 bool AccuracyCheckerNode::onCancel(Cancel::Request& req, Cancel::Response& res) {

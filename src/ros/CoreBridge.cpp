@@ -6,6 +6,7 @@
 
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/TransformedWorkspace.hpp"
+#include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
@@ -42,6 +43,17 @@ domain::Workspace toWorkspace(const WorkspaceSpec& spec) {
 }
 
 std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query) {
+  if (query.is_trajectory) {
+    const TrajectorySpec& spec = query.trajectory;
+    std::vector<domain::WaypointTrajectory::Waypoint> waypoints(spec.times.size());
+    for (std::size_t i = 0; i < waypoints.size() && i < spec.poses.size(); ++i) {
+      waypoints[i].t = spec.times[i];
+      waypoints[i].pose = spec.poses[i];
+    }
+    return std::make_unique<domain::WaypointTrajectory>(
+        std::move(waypoints), spec.slerp ? domain::WaypointTrajectory::Interpolation::Slerp
+                                         : domain::WaypointTrajectory::Interpolation::LinearRpy);
+  }
   domain::Workspace workspace = toWorkspace(query.workspace);
   if (!query.has_transform) return std::make_unique<domain::Workspace>(std::move(workspace));
   domain::RigidTransform t;
@@ -67,7 +79,15 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
   o.alpha = q.alpha;
   o.alpha_relative = true;
   if (!q.method.empty()) o.method = q.method;
-  if (q.min_width > 0.0) o.min_width = DVec::Constant(6, q.min_width);
+  if (q.min_width > 0.0) {
+    if (q.is_trajectory) {
+      // One variable u in [0, 1] over the time span: a minimum duration (s) is that fraction of the span.
+      const double span = q.trajectory.times.empty() ? 0.0 : q.trajectory.times.back() - q.trajectory.times.front();
+      if (span > 0.0) o.min_width = DVec::Constant(1, q.min_width / span);
+    } else {
+      o.min_width = DVec::Constant(6, q.min_width);
+    }
+  }
   o.time_limit_s = q.time_budget;
   o.threads = static_cast<int>(q.threads);
   o.cancel = hooks.cancel;
@@ -91,8 +111,14 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     copy6(r.max_lower, out.lower_bound);
     copy6(r.max_upper, out.upper_bound);
     out.converged = r.converged;
-    out.lower_bound_poses.assign(36, 0.0);
-    for (std::size_t k = 0; k < 6 && k < r.max_argmax.size(); ++k) {
+    if (q.is_trajectory) {
+      out.lower_bound_times.assign(6, q.trajectory.timeOf(0.0));
+      for (std::size_t k = 0; k < 6 && k < r.max_argmax.size(); ++k) {
+        if (r.max_argmax[k].size() >= 1) out.lower_bound_times[k] = q.trajectory.timeOf(r.max_argmax[k][0]);
+      }
+    }
+    if (!q.is_trajectory) out.lower_bound_poses.assign(36, 0.0);
+    for (std::size_t k = 0; k < 6 && k < r.max_argmax.size() && !q.is_trajectory; ++k) {
       const DVec& p = r.max_argmax[k];
       for (int i = 0; i < 6 && i < p.size(); ++i) out.lower_bound_poses[6 * k + static_cast<std::size_t>(i)] = p[i];
     }
@@ -101,9 +127,16 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     if (r.witness_error_lower.size() == 6) copy6(r.witness_error_lower, out.lower_bound);
   }
 
-  if (r.verdict == verify::Verdict::Unsafe && r.witness.size() == 6 && r.witness_component >= 0) {
+  const bool witness = q.is_trajectory ? r.witness.size() == 1 && r.witness_pose.size() == 6 : r.witness.size() == 6;
+  if (r.verdict == verify::Verdict::Unsafe && witness && r.witness_component >= 0) {
     out.has_witness = true;
-    copy6(r.witness, out.witness_pose);
+    if (q.is_trajectory) {
+      // The variable is u; the pose is the midpoint of the verifier's certified enclosure of the pose there.
+      out.witness_t = q.trajectory.timeOf(r.witness[0]);
+      for (int k = 0; k < 6; ++k) out.witness_pose[static_cast<std::size_t>(k)] = r.witness_pose[k].mid();
+    } else {
+      copy6(r.witness, out.witness_pose);
+    }
     out.witness_component = r.witness_component;
     if (r.witness_error_lower.size() == 6) {
       copy6(r.witness_error_lower, out.witness_error);
@@ -132,6 +165,24 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
   out.undecided_max.fill(0.0);
   bool first = true;
   out.undecided_recorded.reserve(r.undecided_boxes.size());
+  if (q.is_trajectory) {
+    // One variable (u): the undecided boxes as time intervals, sorted and merged (as pkm_verify's undecided_t).
+    for (const verify::BoxRecord& b : r.undecided_boxes) {
+      if (b.box.size() < 1 || b.box[0].isEmpty()) continue;
+      out.undecided_times.emplace_back(q.trajectory.timeOf(b.box[0].lower()), q.trajectory.timeOf(b.box[0].upper()));
+    }
+    std::sort(out.undecided_times.begin(), out.undecided_times.end());
+    std::vector<std::pair<double, double>> merged;
+    for (const auto& iv : out.undecided_times) {
+      if (!merged.empty() && iv.first <= merged.back().second) {
+        merged.back().second = std::max(merged.back().second, iv.second);
+      } else {
+        merged.push_back(iv);
+      }
+    }
+    out.undecided_times = std::move(merged);
+    return out;
+  }
   for (const verify::BoxRecord& b : r.undecided_boxes) {
     Box6 box;
     for (int i = 0; i < 6 && i < b.box.size(); ++i) {

@@ -295,14 +295,28 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.mode =
       q.mode == QueryMode::MaxError ? VerifyWorkspace::Request::MODE_MAX_ERROR : VerifyWorkspace::Request::MODE_VERIFY;
   msg.method = method;
-  msg.region_type = toString(q.workspace.position.type);
-  Eigen::Vector3d lo, hi;
-  q.workspace.position.boundingBox(lo, hi);
-  for (int k = 0; k < 3; ++k) {
-    msg.workspace_min[k] = lo[k];
-    msg.workspace_max[k] = hi[k];
-    msg.workspace_min[3 + k] = q.workspace.angle_min[k];
-    msg.workspace_max[3 + k] = q.workspace.angle_max[k];
+  if (q.is_trajectory) {
+    // /verify_trajectory: region_type "trajectory", workspace_min / max = the bounding box of its waypoints.
+    msg.region_type = "trajectory";
+    const auto& poses = q.trajectory.poses;
+    for (std::size_t k = 0; k < 6; ++k) {
+      msg.workspace_min[k] = poses.empty() ? 0.0 : poses.front()[k];
+      msg.workspace_max[k] = msg.workspace_min[k];
+      for (const auto& p : poses) {
+        msg.workspace_min[k] = std::min(msg.workspace_min[k], p[k]);
+        msg.workspace_max[k] = std::max(msg.workspace_max[k], p[k]);
+      }
+    }
+  } else {
+    msg.region_type = toString(q.workspace.position.type);
+    Eigen::Vector3d lo, hi;
+    q.workspace.position.boundingBox(lo, hi);
+    for (int k = 0; k < 3; ++k) {
+      msg.workspace_min[k] = lo[k];
+      msg.workspace_max[k] = hi[k];
+      msg.workspace_min[3 + k] = q.workspace.angle_min[k];
+      msg.workspace_max[3 + k] = q.workspace.angle_max[k];
+    }
   }
   for (std::size_t k = 0; k < 6; ++k) msg.thresholds[k] = q.has_thresholds ? q.thresholds[k] : 0.0;
   msg.alpha = q.alpha;

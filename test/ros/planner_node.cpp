@@ -1,5 +1,6 @@
 // rostest (planner.test): the example planner client executes its motion only when the node proves it SAFE. Reads
-// the latched ~decision of the two planner_client_example instances of the .test file.
+// the latched ~decision of the four planner_client_example instances of the .test file (workspace mode through the
+// action and the service, trajectory mode through /verify_trajectory).
 #include <mutex>
 #include <string>
 
@@ -35,6 +36,16 @@ TEST(PlannerClientExample, DoesNotExecuteOnUnsafeAndSaysWhy) {
   const std::string d = decisionOf("/planner_unsafe/decision", 40.0);
   EXPECT_EQ(d.find("not executing: UNSAFE, the "), 0u) << d;
   EXPECT_NE(d.find("tolerance is exceeded at x="), std::string::npos) << d;
+}
+
+TEST(PlannerClientExample, TrajectoryModeExecutesOnSafe) {
+  EXPECT_EQ(decisionOf("/planner_trajectory_safe/decision", 40.0), "executing");
+}
+
+TEST(PlannerClientExample, TrajectoryModeDoesNotExecuteOnUnsafeAndSaysWhen) {
+  const std::string d = decisionOf("/planner_trajectory_unsafe/decision", 40.0);
+  EXPECT_EQ(d.find("not executing: UNSAFE, the "), 0u) << d;
+  EXPECT_NE(d.find("tolerance is exceeded at t="), std::string::npos) << d;
 }
 
 }  // namespace

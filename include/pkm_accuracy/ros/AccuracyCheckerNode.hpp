@@ -1,9 +1,11 @@
 // The accuracy_checker node: loads a Gough platform (parameters or URDF), describes it (~describe), publishes its
 // anchors as static TF frames and answers /verify_workspace (service) and ~verify_workspace (actionlib action) with
 // the core verifier, publishing ~progress while a job runs, and its result on ~verdict (latched) and its boxes on
-// ~boxes (visualization_msgs/MarkerArray, latched) when it ends. A workspace given in another frame than the base
-// frame is looked up in tf2 at request time and handed to the core as a domain::TransformedWorkspace. The ROS layer
-// only translates: every decision about accuracy is the core's, behind the seam verifyWorkspace().
+// ~boxes (visualization_msgs/MarkerArray, latched) when it ends. /verify_trajectory (service) verifies every pose of
+// a waypoint trajectory through the same jobs (limit, busy answer, ~progress, ~verdict; no ~boxes). A workspace given
+// in another frame than the base frame is looked up in tf2 at request time and handed to the core as a
+// domain::TransformedWorkspace. The ROS layer only translates: every decision about accuracy is the core's, behind the
+// seam verifyWorkspace().
 #pragma once
 
 #include <atomic>
@@ -27,6 +29,7 @@
 #include "pkm_accuracy/Cancel.h"
 #include "pkm_accuracy/Describe.h"
 #include "pkm_accuracy/Progress.h"
+#include "pkm_accuracy/VerifyTrajectory.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/VerifyWorkspaceAction.h"
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
@@ -40,7 +43,7 @@ namespace ros_layer {
 
 /// Global names of the verification services (they do not move with the node's name or namespace).
 constexpr const char* kVerifyWorkspaceService = "/verify_workspace";
-constexpr const char* kVerifyTrajectoryService = "/verify_trajectory";  // reserved, not advertised yet
+constexpr const char* kVerifyTrajectoryService = "/verify_trajectory";
 /// Private name of the action (~verify_workspace, i.e. /pkm_accuracy/verify_workspace with the launch file's name).
 constexpr const char* kVerifyWorkspaceAction = "verify_workspace";
 
@@ -91,6 +94,9 @@ class AccuracyCheckerNode {
   bool loadRobot(std::string& error);
   bool onDescribe(Describe::Request& req, Describe::Response& res);
   bool onVerifyWorkspace(VerifyWorkspace::Request& req, VerifyWorkspace::Response& res);
+  /// /verify_trajectory: the same job admission (~max_parallel_jobs, busy), runJob(), ~progress and ~verdict as
+  /// /verify_workspace; only the translation differs (VerifyTrajectoryConversion.hpp).
+  bool onVerifyTrajectory(VerifyTrajectory::Request& req, VerifyTrajectory::Response& res);
   bool onCancel(Cancel::Request& req, Cancel::Response& res);
   void onGoal(GoalHandle gh);
   void onGoalCancel(GoalHandle gh);
@@ -124,6 +130,7 @@ class AccuracyCheckerNode {
   ros::ServiceServer describe_srv_;
   ros::ServiceServer cancel_srv_;
   ros::ServiceServer verify_workspace_srv_;
+  ros::ServiceServer verify_trajectory_srv_;
   ros::Publisher verdict_pub_;   ///< ~verdict (latched)
   ros::Publisher progress_pub_;  ///< ~progress
   ros::Publisher boxes_pub_;     ///< ~boxes (latched)

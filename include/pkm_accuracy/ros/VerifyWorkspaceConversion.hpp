@@ -33,7 +33,8 @@ void toResult(const WorkspaceOutcome& outcome, VerifyWorkspaceResult& result);
 std::string toString(PositionRegion::Type type);
 
 /// Fills everything but the header of a ~verdict message from a job's query, the enclosure method it used and its
-/// outcome.
+/// outcome. A trajectory query (/verify_trajectory) has region_type "trajectory" and, as workspace_min / max, the
+/// bounding box of its waypoints.
 void toResultMessage(const WorkspaceQuery& query, const std::string& method, const WorkspaceOutcome& outcome,
                      VerificationResult& msg);
 

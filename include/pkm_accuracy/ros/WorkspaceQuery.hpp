@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -39,9 +40,23 @@ struct WorkspaceSpec {
 
 enum class QueryMode { Verify, MaxError };
 
+/// A trajectory through timed waypoints in the base frame (/verify_trajectory): times (s) strictly increasing, poses
+/// x, y, z (m), roll, pitch, yaw (rad), R = Rz(yaw) Ry(pitch) Rx(roll); already validated.
+struct TrajectorySpec {
+  std::vector<double> times;
+  std::vector<std::array<double, 6>> poses;
+  bool slerp = true;  ///< orientation interpolation: slerp, or linear in roll, pitch, yaw
+  /// t_0 + u (t_N - t_0), clamped to [t_0, t_N] (s).
+  double timeOf(double u) const;
+};
+
 /// One request. Zeros in the options mean "the node's default"; fromRequest() has already substituted them.
 struct WorkspaceQuery {
-  WorkspaceSpec workspace;
+  WorkspaceSpec workspace;  ///< unused for a trajectory
+  /// true: the query is a trajectory (/verify_trajectory): `trajectory` is verified instead of `workspace`, and
+  /// min_width is a time (s).
+  bool is_trajectory = false;
+  TrajectorySpec trajectory;
   std::array<double, 6> thresholds{};  ///< on |dX_k|: m, m, m, rad, rad, rad (may be +inf); all 0 = none given
   bool has_thresholds = false;
   QueryMode mode = QueryMode::Verify;
@@ -77,8 +92,10 @@ struct WorkspaceOutcome {
   std::array<double, 6> upper_bound{};
   bool converged = false;
   std::vector<double> lower_bound_poses;  ///< max_error: 6 x 6 row-major (row k: pose attaining lower_bound[k])
+  std::vector<double> lower_bound_times;  ///< trajectory, max_error: 6 times (s) attaining lower_bound[k]
   bool has_witness = false;
   std::array<double, 6> witness_pose{};  ///< x, y, z (m), roll, pitch, yaw (rad)
+  double witness_t = 0.0;                ///< trajectory: time of the witness (s)
   int witness_component = -1;
   std::array<double, 6> witness_error{};
   std::uint64_t boxes = 0;
@@ -91,6 +108,8 @@ struct WorkspaceOutcome {
   std::array<double, 6> undecided_min{};  ///< hull of the recorded undecided boxes
   std::array<double, 6> undecided_max{};
   std::vector<Box6> undecided_recorded;  ///< the recorded undecided boxes themselves (for ~boxes; not in the srv)
+  /// trajectory: the recorded undecided boxes as time intervals (s), sorted, merged where they touch or overlap
+  std::vector<std::pair<double, double>> undecided_times;
 };
 
 /// Node-wide defaults for the options a request leaves at 0.

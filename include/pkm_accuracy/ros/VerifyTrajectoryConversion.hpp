@@ -1,0 +1,25 @@
+// Translation between srv/VerifyTrajectory.srv and the ROS-free WorkspaceQuery (is_trajectory) / WorkspaceOutcome.
+// Every check of a request happens here (each rejection names the field), so the core only sees valid waypoints.
+#pragma once
+
+#include <string>
+
+#include "pkm_accuracy/VerificationResult.h"
+#include "pkm_accuracy/VerifyTrajectory.h"
+#include "pkm_accuracy/ros/WorkspaceQuery.hpp"
+
+namespace pkm_accuracy {
+namespace ros_layer {
+
+/// Validates `req` and fills `out` (is_trajectory = true; options left at 0 / "" get `defaults`). `base_frame` is
+/// the robot's base frame: frame_id must be "" or it (waypoints in another frame are not supported).
+/// @param error on failure: "<field>: expected ..., got ...", e.g. "times[2]: expected a time greater than times[1]
+///              = 1 s (strictly increasing), got 1"
+bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
+                 WorkspaceQuery& out, std::string& error);
+
+/// Copies an outcome into a response.
+void toResponse(const WorkspaceOutcome& outcome, VerifyTrajectory::Response& res);
+
+}  // namespace ros_layer
+}  // namespace pkm_accuracy

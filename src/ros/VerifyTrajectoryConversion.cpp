@@ -1,0 +1,189 @@
+#include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <vector>
+
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+
+namespace pkm_accuracy {
+namespace ros_layer {
+namespace {
+
+const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
+constexpr std::uint32_t kMaxThreads = 1024;
+
+std::string num(double x) {
+  std::ostringstream os;
+  os.precision(10);
+  os << x;
+  return os.str();
+}
+
+std::string idx(const char* field, std::size_t i) { return std::string(field) + "[" + std::to_string(i) + "]"; }
+
+/// An option where 0 means "default": finite and >= 0.
+bool option(double x, double dflt, const char* field, const char* expected, double& out, std::string& error) {
+  if (!std::isfinite(x) || x < 0.0) {
+    error = std::string(field) + ": expected " + expected + ", got " + num(x);
+    return false;
+  }
+  out = x == 0.0 ? dflt : x;
+  return true;
+}
+
+bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& error) {
+  const std::size_t n = req.times.size();
+  if (n < 2) {
+    error = "times: expected at least 2 waypoints (one time each, s), got " + std::to_string(n);
+    return false;
+  }
+  const std::vector<double>* coords[6] = {&req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
+  const char* const names[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+  const char* const units[6] = {"m", "m", "m", "rad", "rad", "rad"};
+  for (std::size_t k = 0; k < 6; ++k) {
+    if (coords[k]->size() != n) {
+      error = std::string(names[k]) + ": expected " + std::to_string(n) + " values (one per waypoint, as times), got " +
+              std::to_string(coords[k]->size());
+      return false;
+    }
+  }
+  spec.times.assign(n, 0.0);
+  spec.poses.assign(n, std::array<double, 6>{});
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = req.times[i];
+    if (!std::isfinite(t)) {
+      error = idx("times", i) + ": expected a finite time (s), got " + num(t);
+      return false;
+    }
+    if (i > 0 && !(t > req.times[i - 1])) {
+      error = idx("times", i) + ": expected a time greater than " + idx("times", i - 1) + " = " +
+              num(req.times[i - 1]) + " s (times must increase strictly), got " + num(t);
+      return false;
+    }
+    spec.times[i] = t;
+    for (std::size_t k = 0; k < 6; ++k) {
+      const double v = (*coords[k])[i];
+      if (!std::isfinite(v)) {
+        error = idx(names[k], i) + ": expected a finite number (" + units[k] + "), got " + num(v);
+        return false;
+      }
+      spec.poses[i][k] = v;
+    }
+  }
+  if (req.interpolation.empty() || req.interpolation == VerifyTrajectory::Request::INTERPOLATION_SLERP) {
+    spec.slerp = true;
+  } else if (req.interpolation == VerifyTrajectory::Request::INTERPOLATION_LINEAR_RPY) {
+    spec.slerp = false;
+  } else {
+    error = "interpolation: expected \"slerp\", \"linear_rpy\" or \"\" (slerp), got \"" + req.interpolation + "\"";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
+                 WorkspaceQuery& out, std::string& error) {
+  WorkspaceQuery q;
+  q.is_trajectory = true;
+  if (!req.frame_id.empty() && req.frame_id != base_frame) {
+    error = "frame_id: expected \"\" or the base frame \"" + base_frame +
+            "\" (waypoints in other frames are not supported by /verify_trajectory yet), got \"" + req.frame_id + "\"";
+    return false;
+  }
+  if (req.mode.empty() || req.mode == VerifyTrajectory::Request::MODE_VERIFY) {
+    q.mode = QueryMode::Verify;
+  } else if (req.mode == VerifyTrajectory::Request::MODE_MAX_ERROR) {
+    q.mode = QueryMode::MaxError;
+  } else {
+    error = "mode: expected \"verify\", \"max_error\" or \"\" (verify), got \"" + req.mode + "\"";
+    return false;
+  }
+  if (!readWaypoints(req, q.trajectory, error)) return false;
+
+  bool all_zero = true;
+  for (double t : req.thresholds) all_zero = all_zero && t == 0.0;
+  q.has_thresholds = !(q.mode == QueryMode::MaxError && all_zero);
+  if (q.has_thresholds) {
+    for (std::size_t k = 0; k < 6; ++k) {
+      const double t = req.thresholds[k];
+      if (!(t > 0.0)) {  // also rejects NaN; +inf is allowed
+        error = idx("thresholds", k) + " (" + kComponent[k] + "): expected a number > 0 (" + (k < 3 ? "m" : "rad") +
+                ") or .inf" + (q.mode == QueryMode::MaxError ? " (or all 0 in mode max_error)" : "") + ", got " +
+                num(t);
+        return false;
+      }
+      q.thresholds[k] = t;
+    }
+  }
+
+  // min_width is a duration (s) here; the node's ~default_min_width (m / rad, for workspaces) does not apply.
+  if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", q.alpha, error) ||
+      !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)",
+              q.time_budget, error) ||
+      !option(req.min_width, 0.0, "min_width", "a finite number >= 0 (s, 0 = the verifier's choice)", q.min_width,
+              error)) {
+    return false;
+  }
+  if (req.threads > kMaxThreads) {
+    error = "threads: expected 0 (all hardware threads) to " + std::to_string(kMaxThreads) + ", got " +
+            std::to_string(req.threads);
+    return false;
+  }
+  q.threads = req.threads;
+  q.method = req.method.empty() ? defaults.method : req.method;
+  if (!q.method.empty()) {
+    const std::vector<std::string> methods = enclosure::enclosureNames();
+    if (std::find(methods.begin(), methods.end(), q.method) == methods.end()) {
+      std::string list;
+      for (const auto& m : methods) list += (list.empty() ? "\"" : ", \"") + m + "\"";
+      error = std::string(req.method.empty() ? "method (from ~default_method)" : "method") + ": expected one of " +
+              list + " or \"\" (default), got \"" + q.method + "\"";
+      return false;
+    }
+  }
+  out = q;
+  return true;
+}
+
+void toResponse(const WorkspaceOutcome& o, VerifyTrajectory::Response& res) {
+  res.success = o.success;
+  res.message = o.message;
+  res.busy = o.busy;
+  res.job_id = o.job_id;
+  res.verdict = o.verdict;
+  res.reason = o.reason;
+  for (std::size_t k = 0; k < 6; ++k) {
+    res.lower_bound[k] = o.lower_bound[k];
+    res.upper_bound[k] = o.upper_bound[k];
+    res.witness_pose[k] = o.witness_pose[k];
+    res.witness_error[k] = o.witness_error[k];
+  }
+  res.converged = o.converged;
+  res.lower_bound_times = o.lower_bound_times;
+  res.has_witness = o.has_witness;
+  res.witness_t = o.witness_t;
+  res.witness_component = o.witness_component;
+  res.boxes = o.boxes;
+  res.max_depth = o.max_depth;
+  res.threads = o.threads;
+  res.seconds = o.seconds;
+  res.safe_fraction = o.safe_fraction;
+  res.unsafe_fraction = o.unsafe_fraction;
+  res.undecided_fraction = o.undecided_fraction;
+  res.undecided_boxes = o.undecided_boxes;
+  res.undecided_boxes_recorded = o.undecided_boxes_recorded;
+  res.undecided_t_start.clear();
+  res.undecided_t_end.clear();
+  for (const auto& iv : o.undecided_times) {
+    res.undecided_t_start.push_back(iv.first);
+    res.undecided_t_end.push_back(iv.second);
+  }
+}
+
+}  // namespace ros_layer
+}  // namespace pkm_accuracy

@@ -1,0 +1,280 @@
+// rostest (trajectory.test): /verify_trajectory on the reference robot of config/ref6.yaml. A 3-waypoint trajectory
+// inside the paper workspace is SAFE with generous thresholds and UNSAFE with tiny ones; the UNSAFE witness is checked
+// independently: its time lies in the span, its pose is the linear interpolant of the waypoints there (position),
+// and the worst error at that pose, evaluated in double from the yaml geometry (GoughPlatform::worstErrorAt, not the
+// verifier), exceeds the violated threshold. Every malformed field gives success = false naming it, and the node
+// keeps serving. The last job's ~verdict describes the trajectory.
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include "VerifyHelpers.hpp"
+#include "pkm_accuracy/VerificationResult.h"
+#include "pkm_accuracy/VerifyTrajectory.h"
+
+namespace {
+
+using pkm_accuracy::VerificationResult;
+using pkm_accuracy::VerifyTrajectory;
+using pkm_accuracy_test::kGenerous;
+using pkm_accuracy_test::kTiny;
+using pkm_accuracy_test::to6;
+using pkm_accuracy_test::worstErrorAt;
+
+constexpr const char* kService = "/verify_trajectory";
+
+/// Three waypoints at t = 1, 2, 4 s inside the paper workspace: x, y in [-0.01, 0.01], z in [0.47, 0.48] (m),
+/// angles within 0.01 rad.
+VerifyTrajectory::Request shortTrajectory(const std::array<double, 6>& thresholds,
+                                          const std::string& interpolation = "slerp") {
+  VerifyTrajectory::Request r;
+  r.times = {1.0, 2.0, 4.0};
+  r.x = {-0.01, 0.0, 0.01};
+  r.y = {0.01, -0.005, -0.01};
+  r.z = {0.47, 0.475, 0.48};
+  r.roll = {0.0, 0.01, -0.01};
+  r.pitch = {-0.01, 0.0, 0.01};
+  r.yaw = {0.005, -0.01, 0.0};
+  r.interpolation = interpolation;
+  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = thresholds[k];
+  r.time_budget = 20.0;
+  return r;
+}
+
+VerifyTrajectory::Response call(const VerifyTrajectory::Request& req) {
+  EXPECT_TRUE(ros::service::waitForService(kService, ros::Duration(20.0)));
+  VerifyTrajectory srv;
+  srv.request = req;
+  EXPECT_TRUE(ros::service::call(kService, srv));  // transport success even for bad requests
+  return srv.response;
+}
+
+/// Linear interpolation of a coordinate of the waypoints at time t (the interpolant's position, docs/trajectories.md).
+double interpolate(const std::vector<double>& times, const std::vector<double>& values, double t) {
+  for (std::size_t i = 0; i + 1 < times.size(); ++i) {
+    if (t <= times[i + 1]) {
+      const double s = (t - times[i]) / (times[i + 1] - times[i]);
+      return values[i] + s * (values[i + 1] - values[i]);
+    }
+  }
+  return values.back();
+}
+
+TEST(VerifyTrajectory, SafeWithGenerousThresholds) {
+  for (const std::string interpolation : {"slerp", "linear_rpy"}) {
+    const VerifyTrajectory::Response res = call(shortTrajectory(kGenerous, interpolation));
+    ASSERT_TRUE(res.success) << interpolation << ": " << res.message;
+    EXPECT_EQ(res.verdict, VerifyTrajectory::Response::VERDICT_SAFE) << interpolation << ": " << res.message;
+    EXPECT_FALSE(res.has_witness);
+    EXPECT_EQ(res.witness_component, -1);
+    EXPECT_GT(res.job_id, 0u);
+    EXPECT_GT(res.boxes, 0u);
+    for (std::size_t k = 0; k < 6; ++k) {
+      EXPECT_EQ(res.lower_bound[k], 0.0);
+      EXPECT_EQ(res.upper_bound[k], kGenerous[k]);
+    }
+    EXPECT_DOUBLE_EQ(res.safe_fraction, 1.0);
+    EXPECT_TRUE(res.undecided_t_start.empty());
+  }
+}
+
+TEST(VerifyTrajectory, UnsafeWithTinyThresholdsHasAnIndependentlyCheckedWitness) {
+  const VerifyTrajectory::Request req = shortTrajectory(kTiny, "linear_rpy");
+  const VerifyTrajectory::Response res = call(req);
+  ASSERT_TRUE(res.success) << res.message;
+  ASSERT_EQ(res.verdict, VerifyTrajectory::Response::VERDICT_UNSAFE) << res.message;
+  ASSERT_TRUE(res.has_witness);
+  EXPECT_GE(res.witness_t, req.times.front());
+  EXPECT_LE(res.witness_t, req.times.back());
+  ASSERT_GE(res.witness_component, 0);
+  ASSERT_LT(res.witness_component, 6);
+  const auto k = static_cast<std::size_t>(res.witness_component);
+  EXPECT_GT(res.witness_error[k], kTiny[k]);
+  EXPECT_EQ(res.lower_bound[k], res.witness_error[k]);
+  EXPECT_TRUE(std::isinf(res.upper_bound[k]));
+
+  // The witness pose is the trajectory's pose at witness_t (linear_rpy: every coordinate linear between waypoints).
+  const std::vector<double>* coords[6] = {&req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_NEAR(res.witness_pose[i], interpolate(req.times, *coords[i], res.witness_t), 1e-9) << "coordinate " << i;
+  }
+  // Independent oracle: the worst error there, from the yaml geometry in double, exceeds the threshold.
+  const std::array<double, 6> e = worstErrorAt(to6(res.witness_pose));
+  EXPECT_GT(e[k], kTiny[k]) << "component " << k;
+  EXPECT_GE(e[k], res.witness_error[k] * (1.0 - 1e-9));  // the certified lower bound is below the true error
+}
+
+TEST(VerifyTrajectory, SlerpUnsafeWitnessIsInsideTheSpan) {
+  const VerifyTrajectory::Request req = shortTrajectory(kTiny, "slerp");
+  const VerifyTrajectory::Response res = call(req);
+  ASSERT_TRUE(res.success) << res.message;
+  ASSERT_EQ(res.verdict, VerifyTrajectory::Response::VERDICT_UNSAFE) << res.message;
+  EXPECT_GE(res.witness_t, 1.0);
+  EXPECT_LE(res.witness_t, 4.0);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::vector<double>* c = i == 0 ? &req.x : i == 1 ? &req.y : &req.z;
+    EXPECT_NEAR(res.witness_pose[i], interpolate(req.times, *c, res.witness_t), 1e-9) << "coordinate " << i;
+  }
+  const auto k = static_cast<std::size_t>(res.witness_component);
+  ASSERT_LT(k, 6u);
+  EXPECT_GT(worstErrorAt(to6(res.witness_pose))[k], kTiny[k]);
+}
+
+TEST(VerifyTrajectory, MaxErrorBracketsTheWaypointErrors) {
+  VerifyTrajectory::Request req = shortTrajectory({0, 0, 0, 0, 0, 0});
+  req.mode = VerifyTrajectory::Request::MODE_MAX_ERROR;
+  req.alpha = 0.05;
+  const VerifyTrajectory::Response res = call(req);
+  ASSERT_TRUE(res.success) << res.message;
+  ASSERT_EQ(res.lower_bound_times.size(), 6u);
+  for (std::size_t i = 0; i < req.times.size(); ++i) {
+    const std::array<double, 6> e = worstErrorAt({req.x[i], req.y[i], req.z[i], req.roll[i], req.pitch[i], req.yaw[i]});
+    for (std::size_t k = 0; k < 6; ++k) EXPECT_LE(e[k], res.upper_bound[k] * (1.0 + 1e-9)) << "waypoint " << i;
+  }
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_LE(res.lower_bound[k], res.upper_bound[k]);
+    EXPECT_GE(res.lower_bound_times[k], 1.0);
+    EXPECT_LE(res.lower_bound_times[k], 4.0);
+  }
+}
+
+/// A malformed request: success false, no job, and the message names `field`.
+void expectRefused(const VerifyTrajectory::Request& req, const std::string& field) {
+  const VerifyTrajectory::Response res = call(req);
+  EXPECT_FALSE(res.success) << field;
+  EXPECT_EQ(res.verdict, "") << field;
+  EXPECT_EQ(res.job_id, 0u) << field;
+  // "invalid request: <field>: ..." or "invalid request: <field> (<component>): ..."
+  const std::string prefix = "invalid request: " + field;
+  const bool named = res.message.compare(0, prefix.size(), prefix) == 0 && res.message.size() > prefix.size() &&
+                     (res.message[prefix.size()] == ':' || res.message[prefix.size()] == ' ');
+  EXPECT_TRUE(named) << "expected the message to name " << field << ": " << res.message;
+}
+
+TEST(VerifyTrajectory, MalformedFieldsAreRefusedByNameAndTheNodeKeepsServing) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.y[1] = nan;
+    expectRefused(r, "y[1]");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.times[0] = nan;
+    expectRefused(r, "times[0]");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.times = {1.0, 3.0, 2.0};
+    expectRefused(r, "times[2]");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.times = {1.0, 1.0, 2.0};
+    expectRefused(r, "times[1]");
+  }
+  {
+    VerifyTrajectory::Request r = shortTrajectory(kGenerous);
+    r.times = {1.0};
+    r.x = {0.0};
+    r.y = {0.0};
+    r.z = {0.475};
+    r.roll = r.pitch = r.yaw = {0.0};
+    expectRefused(r, "times");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.yaw.pop_back();
+    expectRefused(r, "yaw");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.x.push_back(0.0);
+    expectRefused(r, "x");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.interpolation = "cubic";
+    expectRefused(r, "interpolation");
+  }
+  {
+    auto r = shortTrajectory({1e-3, 1e-3, 0.0, 1e-2, 1e-2, 1e-2});
+    expectRefused(r, "thresholds[2]");
+  }
+  {
+    auto r = shortTrajectory({0, 0, 0, 0, 0, 0});
+    expectRefused(r, "thresholds[0]");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.mode = "fast";
+    expectRefused(r, "mode");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.time_budget = -1.0;
+    expectRefused(r, "time_budget");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.method = "magic";
+    expectRefused(r, "method");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.frame_id = "world";
+    expectRefused(r, "frame_id");
+  }
+  // Still serving, both services.
+  const VerifyTrajectory::Response res = call(shortTrajectory(kGenerous));
+  EXPECT_TRUE(res.success) << res.message;
+  EXPECT_EQ(res.verdict, VerifyTrajectory::Response::VERDICT_SAFE);
+  const auto ws = pkm_accuracy_test::verify(pkm_accuracy_test::smallRequest(kGenerous));
+  EXPECT_TRUE(ws.success) << ws.message;
+  EXPECT_EQ(ws.verdict, "SAFE");
+}
+
+TEST(VerifyTrajectory, VerdictTopicDescribesTheTrajectoryJob) {
+  const VerifyTrajectory::Response res = call(shortTrajectory(kGenerous));
+  ASSERT_TRUE(res.success) << res.message;
+  std::mutex m;
+  VerificationResult got;
+  bool have = false;
+  ros::NodeHandle nh;
+  ros::Subscriber sub = nh.subscribe<VerificationResult>("/pkm_accuracy/verdict", 1,
+                                                         [&](const pkm_accuracy::VerificationResultConstPtr& msg) {
+                                                           std::lock_guard<std::mutex> lock(m);
+                                                           got = *msg;
+                                                           have = true;
+                                                         });
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (ros::WallTime::now() < deadline) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      if (have) break;
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  std::lock_guard<std::mutex> lock(m);
+  ASSERT_TRUE(have);
+  EXPECT_EQ(got.job_id, res.job_id);
+  EXPECT_EQ(got.region_type, "trajectory");
+  EXPECT_EQ(got.verdict, "SAFE");
+  EXPECT_DOUBLE_EQ(got.workspace_min[0], -0.01);
+  EXPECT_DOUBLE_EQ(got.workspace_max[2], 0.48);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "trajectory_test");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
