@@ -58,12 +58,14 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
     out.upper[k] = f[k].upper();
     out.lower[k] = f[k].lower();
   }
-  out.internals.valid = true;
-  out.internals.variables = vars;
-  out.internals.c = c;
-  out.internals.inverse = inv;
-  out.internals.d = cds;
-  out.internals.jacobian = jac;
+  if (box.keepInternals) {
+    out.internals.valid = true;
+    out.internals.variables = vars;
+    out.internals.c = c;
+    out.internals.inverse = inv;
+    out.internals.d = cds;
+    out.internals.jacobian = jac;
+  }
   if (!secondOrder_) return;
 
   // Second-order form of f_k itself. With E(t) = C J^-1(t) - I, N = (I + E)^-1 = I - E + E^2 N, and the mean-value

@@ -119,6 +119,7 @@ class Run {
     }
     enclosure::BoxInput in;
     domain_.poseView(box, method_->needsGradient(), in);
+    in.keepInternals = options_.monotonicity;
     enclosure::ErrorBounds bounds;
     method_->enclose(model_, in, bounds);
     boxes_.fetch_add(1, std::memory_order_relaxed);
@@ -150,7 +151,7 @@ class Run {
     } else {
       for (int k = 0; k < n_; ++k) {
         if (!(active & (1u << k))) continue;
-        if (bounds.upper[k] <= lower_[k]->load() + tolerance(lower_[k]->load())) {
+        if (bounds.upper[k] <= target(k)) {
           discarded_[k]->raise(bounds.upper[k]);
           active &= ~(1u << k);
         }
@@ -195,9 +196,7 @@ class Run {
     if (!bounds.internals.valid) return;
     for (int k = 0; k < n_; ++k) {
       if (!(active & (1u << k))) continue;
-      const double target =
-          options_.mode == Mode::Verify ? options_.thresholds[k] : lower_[k]->load() + tolerance(lower_[k]->load());
-      if (bounds.upper[k] <= target) continue;
+      if (bounds.upper[k] <= target(k)) continue;
       IVec gradient;
       if (!enclosure::errorGradient(bounds, model_.sensorError(), k, gradient)) continue;
       DVec point(m_);
@@ -225,9 +224,7 @@ class Run {
         bounds.upper[k] = bound.upper();
         gradientHits_.fetch_add(1, std::memory_order_relaxed);
       }
-      IVec thin(m_);
-      for (int i = 0; i < m_; ++i) thin[i] = Interval(point[i]);
-      evaluatePoint(point, thin);
+      evaluatePoint(point, thinBox(point));
     }
   }
 
@@ -260,9 +257,8 @@ class Run {
       score = DVec::Zero(m_);
       for (int k = 0; k < n_; ++k) {
         if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
-        const double target =
-            options_.mode == Mode::Verify ? options_.thresholds[k] : lower_[k]->load() + tolerance(lower_[k]->load());
-        const double excess = target > 0.0 ? bounds.upper[k] / target : 1.0;
+        const double goal = target(k);
+        const double excess = goal > 0.0 ? bounds.upper[k] / goal : 1.0;
         for (int i = 0; i < m_; ++i) score[i] = std::max(score[i], excess * bounds.componentSmear(k, i));
       }
       if (!(score.maxCoeff() > 0.0)) score = bounds.splitScore;
@@ -286,8 +282,7 @@ class Run {
   /// boundary to the precision limit.
   void checkCentre(const IVec& box) {
     const DVec c = domain::centreOf(box);
-    IVec thin(m_);
-    for (int i = 0; i < m_; ++i) thin[i] = Interval(c[i]);
+    const IVec thin = thinBox(c);
     if (domain_.classify(thin) == domain::Containment::Inside) {
       evaluatePoint(c, thin);
       return;
@@ -363,8 +358,7 @@ class Run {
                       : initial_[v].lower() + (initial_[v].upper() - initial_[v].lower()) * j / (g - 1);
         t[v] = std::min(std::max(t[v], initial_[v].lower()), initial_[v].upper());
       }
-      IVec thin(m_);
-      for (int i = 0; i < m_; ++i) thin[i] = Interval(t[i]);
+      const IVec thin = thinBox(t);
       if (domain_.classify(thin) != domain::Containment::Inside) continue;
       const IVec pose = domain_.poseAt(t);
       DVec p(pose.size());
@@ -390,14 +384,27 @@ class Run {
     if (options_.mode == Mode::MaxError) {
       for (int k = 0; k < n_; ++k) {
         if (best[k] < 0.0) continue;
-        IVec thin(m_);
-        for (int i = 0; i < m_; ++i) thin[i] = Interval(bestPoint[k][i]);
-        evaluatePoint(bestPoint[k], thin);
+        evaluatePoint(bestPoint[k], thinBox(bestPoint[k]));
       }
     }
   }
 
   // ---- bookkeeping -------------------------------------------------------------------------------------------------
+  /// The value component k's upper bound must reach for a box to be closed for it: the threshold (verify) or the
+  /// current lower bound plus the tolerance (max-error).
+  double target(int k) const {
+    if (options_.mode == Mode::Verify) return options_.thresholds[k];
+    const double lower = lower_[k]->load();
+    return lower + tolerance(lower);
+  }
+
+  /// The degenerate box of a point of the variables.
+  IVec thinBox(const DVec& t) const {
+    IVec thin(m_);
+    for (int i = 0; i < m_; ++i) thin[i] = Interval(t[i]);
+    return thin;
+  }
+
   double tolerance(double lowerBound) const {
     return options_.alpha_relative ? options_.alpha * lowerBound : options_.alpha;
   }

@@ -20,12 +20,13 @@ namespace enclosure {
 /// A box of the search, seen as poses. Built by the domain (workspace: the identity map; trajectory: the pose
 /// map of the parameters).
 struct BoxInput {
-  int variables = 0;         ///< number of box variables (<= kMaxDof)
-  IVec pose;                 ///< enclosure of every pose of the box
-  DualPose dualPose;         ///< the pose over the box with its gradient with respect to the box variables
-  IVec centrePose;           ///< enclosure of the pose at the box centre (degenerate for workspace boxes)
-  IVec deviation;            ///< per box variable i: t_i - centre_i over the box
-  bool hasGradient = false;  ///< dualPose is filled
+  int variables = 0;           ///< number of box variables (<= kMaxDof)
+  IVec pose;                   ///< enclosure of every pose of the box
+  DualPose dualPose;           ///< the pose over the box with its gradient with respect to the box variables
+  IVec centrePose;             ///< enclosure of the pose at the box centre (degenerate for workspace boxes)
+  IVec deviation;              ///< per box variable i: t_i - centre_i over the box
+  bool hasGradient = false;    ///< dualPose is filled
+  bool keepInternals = false;  ///< ask the method to fill ErrorBounds::internals (for errorGradient)
 };
 
 /// Intermediate enclosures of the preconditioned methods, kept so that derivative information (monotonicity) can
@@ -47,7 +48,7 @@ struct ErrorBounds {
   /// to the bound), so that a search can split for the components it still needs; may be empty.
   DMat componentSmear;
   bool bounded() const { return upper.size() > 0 && upper.allFinite(); }
-  EnclosureInternals internals;  ///< filled by the mean-value methods
+  EnclosureInternals internals;  ///< filled by the mean-value methods when BoxInput::keepInternals is set
 };
 
 /// Enclosure of the gradient of f_k with respect to the box variables over the box, from the internals of a
