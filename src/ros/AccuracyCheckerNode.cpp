@@ -52,7 +52,9 @@ std::string seconds(double s) {
   return os.str();
 }
 
-void toFeedback(const Progress& p, VerifyWorkspaceFeedback& f) {
+// The feedback of both actions has the fields of ~progress (without its header).
+template <class Feedback>
+void toFeedback(const Progress& p, Feedback& f) {
   f.job_id = p.job_id;
   f.mode = p.mode;
   f.boxes = p.boxes;
@@ -94,7 +96,8 @@ AccuracyCheckerNode::~AccuracyCheckerNode() {
   // (cancelled jobs; at most ~tf_timeout in a tf2 lookup) before the action server goes.
   if (verify_spinner_) verify_spinner_->stop();
   reapActionThreads(true);
-  action_server_.reset();
+  workspace_action_server_.reset();
+  trajectory_action_server_.reset();
   verify_workspace_srv_.shutdown();
   verify_trajectory_srv_.shutdown();
   cancel_srv_.shutdown();
@@ -203,21 +206,18 @@ bool AccuracyCheckerNode::start(std::string& error) {
       verify_nh.advertiseService(kVerifyWorkspaceService, &AccuracyCheckerNode::onVerifyWorkspace, this);
   verify_trajectory_srv_ =
       verify_nh.advertiseService(kVerifyTrajectoryService, &AccuracyCheckerNode::onVerifyTrajectory, this);
-  ros::NodeHandle action_nh(pnh_);
-  action_nh.setCallbackQueue(&verify_queue_);
-  action_server_.reset(new ActionServer(
-      action_nh, kVerifyWorkspaceAction, [this](GoalHandle gh) { onGoal(gh); },
-      [this](GoalHandle gh) { onGoalCancel(gh); }, /*auto_start=*/false));
-  action_server_->start();
+  workspace_action_server_ = startActionServer<VerifyWorkspaceAction>(kVerifyWorkspaceAction);
+  trajectory_action_server_ = startActionServer<VerifyTrajectoryAction>(kVerifyTrajectoryAction);
   verify_spinner_.reset(new ros::AsyncSpinner(static_cast<std::uint32_t>(max_parallel_jobs_ + 1), &verify_queue_));
   verify_spinner_->start();
 
   if (pnh_.param("publish_anchor_frames", true)) publishAnchorFrames();
-  ROS_INFO("Services: %s, %s, %s, %s; action: %s; topics: %s, %s, %s (at most %d job(s) at once)",
+  ROS_INFO("Services: %s, %s, %s, %s; actions: %s, %s; topics: %s, %s, %s (at most %d job(s) at once)",
            describe_srv_.getService().c_str(), cancel_srv_.getService().c_str(),
            verify_workspace_srv_.getService().c_str(), verify_trajectory_srv_.getService().c_str(),
-           pnh_.resolveName(kVerifyWorkspaceAction).c_str(), verdict_pub_.getTopic().c_str(),
-           progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(), max_parallel_jobs_);
+           pnh_.resolveName(kVerifyWorkspaceAction).c_str(), pnh_.resolveName(kVerifyTrajectoryAction).c_str(),
+           verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(),
+           max_parallel_jobs_);
   return true;
 }
 
@@ -517,9 +517,23 @@ bool AccuracyCheckerNode::onCancel(Cancel::Request& req, Cancel::Response& res) 
   return true;
 }
 
-void AccuracyCheckerNode::onGoal(GoalHandle gh) {
-  const std::string via = pnh_.resolveName(kVerifyWorkspaceAction);
-  VerifyWorkspaceResult result;
+template <class Action>
+std::unique_ptr<actionlib::ActionServer<Action>> AccuracyCheckerNode::startActionServer(const char* name) {
+  using GoalHandle = actionlib::ServerGoalHandle<Action>;
+  ros::NodeHandle action_nh(pnh_);
+  action_nh.setCallbackQueue(&verify_queue_);
+  std::unique_ptr<actionlib::ActionServer<Action>> server(new actionlib::ActionServer<Action>(
+      action_nh, name, [this, name](GoalHandle gh) { onGoal<Action>(gh, name); },
+      [this, name](GoalHandle gh) { onGoalCancel(gh.getGoalID().id, name); }, /*auto_start=*/false));
+  server->start();
+  return server;
+}
+
+template <class Action>
+void AccuracyCheckerNode::onGoal(actionlib::ServerGoalHandle<Action> gh, const char* name) {
+  using Result = typename Action::_action_result_type::_result_type;
+  const std::string via = pnh_.resolveName(name);
+  Result result;
   try {
     WorkspaceQuery query;
     std::string error;
@@ -530,7 +544,7 @@ void AccuracyCheckerNode::onGoal(GoalHandle gh) {
       return;
     }
     WorkspaceOutcome refusal;
-    const std::shared_ptr<Job> job = admit(refusal, gh.getGoalID().id);
+    const std::shared_ptr<Job> job = admit(refusal, std::string(name) + " " + gh.getGoalID().id);
     if (!job) {
       toResult(refusal, result);
       ROS_WARN("%s: goal rejected: %s", via.c_str(), result.message.c_str());
@@ -546,29 +560,33 @@ void AccuracyCheckerNode::onGoal(GoalHandle gh) {
     reapActionThreads(false);
     auto done = std::make_shared<std::atomic<bool>>(false);
     std::lock_guard<std::mutex> lock(threads_mutex_);
-    action_threads_.push_back(ActionThread{std::thread([this, job, query, gh, done] {
-                                             runGoal(job, query, gh);
+    action_threads_.push_back(ActionThread{std::thread([this, job, query, gh, name, done] {
+                                             runGoal<Action>(job, query, gh, name);
                                              *done = true;
                                            }),
                                            done});
   } catch (const std::exception& e) {
-    result = VerifyWorkspaceResult();
+    result = Result();
     result.message = std::string("verification failed: ") + e.what();
     ROS_ERROR("%s: %s", via.c_str(), result.message.c_str());
     gh.setRejected(result, result.message);
   }
 }
 
-void AccuracyCheckerNode::runGoal(const std::shared_ptr<Job>& job, const WorkspaceQuery& query, GoalHandle gh) {
-  const std::string via = pnh_.resolveName(kVerifyWorkspaceAction);
+template <class Action>
+void AccuracyCheckerNode::runGoal(const std::shared_ptr<Job>& job, const WorkspaceQuery& query,
+                                  actionlib::ServerGoalHandle<Action> gh, const char* name) {
+  using Result = typename Action::_action_result_type::_result_type;
+  using Feedback = typename Action::_action_feedback_type::_feedback_type;
+  const std::string via = pnh_.resolveName(name);
   std::mutex feedback_mutex;
   const WorkspaceOutcome outcome = runJob(job, query, via, [&](const Progress& p) {
-    VerifyWorkspaceFeedback f;
+    Feedback f;
     toFeedback(p, f);
     std::lock_guard<std::mutex> lock(feedback_mutex);
     gh.publishFeedback(f);
   });
-  VerifyWorkspaceResult result;
+  Result result;
   toResult(outcome, result);
   if (outcome.success && outcome.reason == verify::toString(verify::UndecidedReason::Cancelled)) {
     if (job->client_cancel) {
@@ -583,15 +601,14 @@ void AccuracyCheckerNode::runGoal(const std::shared_ptr<Job>& job, const Workspa
   }
 }
 
-void AccuracyCheckerNode::onGoalCancel(GoalHandle gh) {
-  const std::string goal_id = gh.getGoalID().id;
+void AccuracyCheckerNode::onGoalCancel(const std::string& goal_id, const char* name) {
+  const std::string key = std::string(name) + " " + goal_id;
   std::lock_guard<std::mutex> lock(jobs_mutex_);
   for (auto& j : jobs_) {
-    if (j.second->goal_id != goal_id) continue;
+    if (j.second->goal_id != key) continue;
     j.second->client_cancel = true;
     j.second->cancel = true;
-    ROS_INFO("%s: the client cancels job %lu", pnh_.resolveName(kVerifyWorkspaceAction).c_str(),
-             static_cast<unsigned long>(j.first));
+    ROS_INFO("%s: the client cancels job %lu", pnh_.resolveName(name).c_str(), static_cast<unsigned long>(j.first));
   }
 }
 

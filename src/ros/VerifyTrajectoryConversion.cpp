@@ -150,7 +150,11 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
   return true;
 }
 
-void toResponse(const WorkspaceOutcome& o, VerifyTrajectory::Response& res) {
+namespace {
+
+// The response and the action result have the same fields.
+template <class Response>
+void fillResponse(const WorkspaceOutcome& o, Response& res) {
   res.success = o.success;
   res.message = o.message;
   res.busy = o.busy;
@@ -183,6 +187,33 @@ void toResponse(const WorkspaceOutcome& o, VerifyTrajectory::Response& res) {
     res.undecided_t_start.push_back(iv.first);
     res.undecided_t_end.push_back(iv.second);
   }
+}
+
+}  // namespace
+
+void toResponse(const WorkspaceOutcome& o, VerifyTrajectory::Response& res) { fillResponse(o, res); }
+
+void toResult(const WorkspaceOutcome& o, VerifyTrajectoryResult& result) { fillResponse(o, result); }
+
+VerifyTrajectory::Request toRequest(const VerifyTrajectoryGoal& g) {
+  VerifyTrajectory::Request r;
+  r.times = g.times;
+  r.x = g.x;
+  r.y = g.y;
+  r.z = g.z;
+  r.roll = g.roll;
+  r.pitch = g.pitch;
+  r.yaw = g.yaw;
+  r.interpolation = g.interpolation;
+  r.thresholds = g.thresholds;
+  r.mode = g.mode;
+  r.alpha = g.alpha;
+  r.time_budget = g.time_budget;
+  r.min_width = g.min_width;
+  r.threads = g.threads;
+  r.method = g.method;
+  r.frame_id = g.frame_id;
+  return r;
 }
 
 }  // namespace ros_layer

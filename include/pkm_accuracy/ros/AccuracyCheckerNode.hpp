@@ -1,8 +1,9 @@
 // The accuracy_checker node: loads a Gough platform (parameters or URDF), describes it (~describe), publishes its
 // anchors as static TF frames and answers /verify_workspace (service) and ~verify_workspace (actionlib action) with
 // the core verifier, publishing ~progress while a job runs, and its result on ~verdict (latched) and its boxes on
-// ~boxes (visualization_msgs/MarkerArray, latched) when it ends. /verify_trajectory (service) verifies every pose of
-// a waypoint trajectory through the same jobs (limit, busy answer, ~progress, ~verdict; no ~boxes). A workspace given
+// ~boxes (visualization_msgs/MarkerArray, latched) when it ends. /verify_trajectory (service) and ~verify_trajectory
+// (action) verify every pose of a waypoint trajectory through the same jobs (limit, busy answer, ~progress, ~verdict;
+// no ~boxes); both actions share one implementation (onGoal / runGoal, templates on the action type). A workspace given
 // in another frame than the base frame is looked up in tf2 at request time and handed to the core as a
 // domain::TransformedWorkspace. The ROS layer only translates: every decision about accuracy is the core's, behind the
 // seam verifyWorkspace().
@@ -30,6 +31,7 @@
 #include "pkm_accuracy/Describe.h"
 #include "pkm_accuracy/Progress.h"
 #include "pkm_accuracy/VerifyTrajectory.h"
+#include "pkm_accuracy/VerifyTrajectoryAction.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/VerifyWorkspaceAction.h"
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
@@ -44,13 +46,15 @@ namespace ros_layer {
 /// Global names of the verification services (they do not move with the node's name or namespace).
 constexpr const char* kVerifyWorkspaceService = "/verify_workspace";
 constexpr const char* kVerifyTrajectoryService = "/verify_trajectory";
-/// Private name of the action (~verify_workspace, i.e. /pkm_accuracy/verify_workspace with the launch file's name).
+/// Private names of the actions (~verify_workspace, i.e. /pkm_accuracy/verify_workspace with the launch file's name,
+/// and ~verify_trajectory).
 constexpr const char* kVerifyWorkspaceAction = "verify_workspace";
+constexpr const char* kVerifyTrajectoryAction = "verify_trajectory";
 
 class AccuracyCheckerNode {
  public:
-  using ActionServer = actionlib::ActionServer<VerifyWorkspaceAction>;
-  using GoalHandle = ActionServer::GoalHandle;
+  using WorkspaceActionServer = actionlib::ActionServer<VerifyWorkspaceAction>;
+  using TrajectoryActionServer = actionlib::ActionServer<VerifyTrajectoryAction>;
 
   /// @param nh  public node handle (services with global names)
   /// @param pnh private node handle ("~"): robot parameters, ~describe
@@ -59,7 +63,7 @@ class AccuracyCheckerNode {
 
   /// Loads the robot (~robot_source = "yaml": loadGoughGeometry() on the private parameters; "urdf": the URDF in
   /// robot_description (searched from the private namespace up) + ~sensor_error), builds its model (once: every
-  /// request uses it), then advertises the services, the action and the topics and publishes the anchor frames.
+  /// request uses it), then advertises the services, the actions and the topics and publishes the anchor frames.
   /// Returns false, with `error` saying why, only if no robot could be loaded; then nothing is advertised.
   bool start(std::string& error);
 
@@ -82,7 +86,7 @@ class AccuracyCheckerNode {
     std::uint64_t id = 0;
     std::atomic<bool> cancel{false};
     std::atomic<bool> client_cancel{false};  ///< the action client cancelled the goal (vs ~cancel / shutdown)
-    std::string goal_id;                     ///< action goals: the actionlib goal id; "" for service requests
+    std::string goal_id;  ///< action goals: "<action name> <actionlib goal id>"; "" for service requests
     ros::WallTime started;
   };
   /// The thread running an action goal.
@@ -98,9 +102,21 @@ class AccuracyCheckerNode {
   /// /verify_workspace; only the translation differs (VerifyTrajectoryConversion.hpp).
   bool onVerifyTrajectory(VerifyTrajectory::Request& req, VerifyTrajectory::Response& res);
   bool onCancel(Cancel::Request& req, Cancel::Response& res);
-  void onGoal(GoalHandle gh);
-  void onGoalCancel(GoalHandle gh);
-  void runGoal(const std::shared_ptr<Job>& job, const WorkspaceQuery& query, GoalHandle gh);
+  /// A goal of either action (~verify_workspace, ~verify_trajectory; `name` = its private name): validated like the
+  /// service request (REJECTED naming the field), admitted under the same job limit (REJECTED, result.busy) and run
+  /// in its own thread by runGoal().
+  template <class Action>
+  void onGoal(actionlib::ServerGoalHandle<Action> gh, const char* name);
+  /// Runs an accepted goal through runJob() (feedback = every ~progress snapshot) and ends it: SUCCEEDED (the
+  /// verifier ran), PREEMPTED (cancelled by the client, partial result), ABORTED (failure, ~cancel, shutdown).
+  template <class Action>
+  void runGoal(const std::shared_ptr<Job>& job, const WorkspaceQuery& query, actionlib::ServerGoalHandle<Action> gh,
+               const char* name);
+  /// The client cancels the goal `goal_id` of the action `name`: its job stops promptly.
+  void onGoalCancel(const std::string& goal_id, const char* name);
+  /// Creates, starts and returns the action server `name` on the verification queue.
+  template <class Action>
+  std::unique_ptr<actionlib::ActionServer<Action>> startActionServer(const char* name);
   /// Registers a new job, or returns null and explains in `refusal` (busy / shutting down).
   std::shared_ptr<Job> admit(WorkspaceOutcome& refusal, const std::string& goal_id = "");
   void finish(const std::shared_ptr<Job>& job);
@@ -140,7 +156,8 @@ class AccuracyCheckerNode {
   // are served from the same queue and return at once: each accepted goal runs in its own thread.
   ros::CallbackQueue verify_queue_;
   std::unique_ptr<ros::AsyncSpinner> verify_spinner_;
-  std::unique_ptr<ActionServer> action_server_;
+  std::unique_ptr<WorkspaceActionServer> workspace_action_server_;
+  std::unique_ptr<TrajectoryActionServer> trajectory_action_server_;
   std::mutex threads_mutex_;
   std::vector<ActionThread> action_threads_;
   std::mutex jobs_mutex_;

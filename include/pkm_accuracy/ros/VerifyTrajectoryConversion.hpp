@@ -1,11 +1,13 @@
-// Translation between srv/VerifyTrajectory.srv and the ROS-free WorkspaceQuery (is_trajectory) / WorkspaceOutcome.
-// Every check of a request happens here (each rejection names the field), so the core only sees valid waypoints.
+// Translation between srv/VerifyTrajectory.srv, action/VerifyTrajectory.action and the ROS-free WorkspaceQuery
+// (is_trajectory) / WorkspaceOutcome. Every check of a request happens here (each rejection names the field), so the
+// core only sees valid waypoints.
 #pragma once
 
 #include <string>
 
 #include "pkm_accuracy/VerificationResult.h"
 #include "pkm_accuracy/VerifyTrajectory.h"
+#include "pkm_accuracy/VerifyTrajectoryAction.h"
 #include "pkm_accuracy/ros/WorkspaceQuery.hpp"
 
 namespace pkm_accuracy {
@@ -20,6 +22,12 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
 
 /// Copies an outcome into a response.
 void toResponse(const WorkspaceOutcome& outcome, VerifyTrajectory::Response& res);
+
+/// The service request with the fields of an action goal (the goal is the request, field for field).
+VerifyTrajectory::Request toRequest(const VerifyTrajectoryGoal& goal);
+
+/// Copies an outcome into an action result (the result is the response, field for field).
+void toResult(const WorkspaceOutcome& outcome, VerifyTrajectoryResult& result);
 
 }  // namespace ros_layer
 }  // namespace pkm_accuracy

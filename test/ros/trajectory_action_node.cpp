@@ -1,0 +1,270 @@
+// rostest (trajectory_action.test): the ~verify_trajectory action. Its goal and result are /verify_trajectory's
+// request and response field for field (same checksums; the node's conversions copy every field); a SAFE goal
+// succeeds with the service's verdict, a malformed goal is rejected naming the field, a long goal publishes feedback,
+// shares the job limit (a second goal is rejected busy), and stops promptly on cancel with its partial result
+// (PREEMPTED, UNDECIDED, "cancelled").
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <actionlib/client/simple_action_client.h>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <ros/serialization.h>
+
+#include "VerifyHelpers.hpp"
+#include "pkm_accuracy/VerifyTrajectory.h"
+#include "pkm_accuracy/VerifyTrajectoryAction.h"
+#include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
+
+namespace {
+
+using pkm_accuracy::VerifyTrajectory;
+using pkm_accuracy::VerifyTrajectoryAction;
+using pkm_accuracy::VerifyTrajectoryFeedback;
+using pkm_accuracy::VerifyTrajectoryFeedbackConstPtr;
+using pkm_accuracy::VerifyTrajectoryGoal;
+using pkm_accuracy::VerifyTrajectoryResult;
+using pkm_accuracy_test::kGenerous;
+using pkm_accuracy_test::kNone;
+using Client = actionlib::SimpleActionClient<VerifyTrajectoryAction>;
+using State = actionlib::SimpleClientGoalState;
+
+constexpr const char* kAction = "/pkm_accuracy/verify_trajectory";
+constexpr const char* kService = "/verify_trajectory";
+
+template <class M>
+std::vector<std::uint8_t> bytes(const M& m) {
+  std::vector<std::uint8_t> b(ros::serialization::serializationLength(m));
+  ros::serialization::OStream out(b.data(), static_cast<std::uint32_t>(b.size()));
+  ros::serialization::serialize(out, m);
+  return b;
+}
+
+/// A message of another type with the same definition (same checksum, hence the same wire format).
+template <class To, class From>
+To convert(const From& from) {
+  std::vector<std::uint8_t> b = bytes(from);
+  To to;
+  ros::serialization::IStream in(b.data(), static_cast<std::uint32_t>(b.size()));
+  ros::serialization::deserialize(in, to);
+  return to;
+}
+
+VerifyTrajectoryGoal goalOf(const VerifyTrajectory::Request& r) { return convert<VerifyTrajectoryGoal>(r); }
+
+/// Three waypoints at t = 1, 2, 4 s inside the paper workspace (as in trajectory_node).
+VerifyTrajectory::Request shortTrajectory(const std::array<double, 6>& thresholds) {
+  VerifyTrajectory::Request r;
+  r.times = {1.0, 2.0, 4.0};
+  r.x = {-0.01, 0.0, 0.01};
+  r.y = {0.01, -0.005, -0.01};
+  r.z = {0.47, 0.475, 0.48};
+  r.roll = {0.0, 0.01, -0.01};
+  r.pitch = {-0.01, 0.0, 0.01};
+  r.yaw = {0.005, -0.01, 0.0};
+  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = thresholds[k];
+  r.time_budget = 20.0;
+  return r;
+}
+
+/// 20000 waypoints (1 s apart) wandering through x, y in [-0.1, 0.1], z in [0.46, 0.49] (m), angles within 0.1 rad:
+/// max_error with a tiny alpha and min_width keeps one thread busy far beyond the time the test waits (budget 30 s).
+VerifyTrajectoryGoal longGoal() {
+  VerifyTrajectory::Request r;
+  for (int i = 0; i < 20000; ++i) {
+    const double t = static_cast<double>(i);
+    r.times.push_back(t);
+    r.x.push_back(0.1 * std::sin(0.03 * t));
+    r.y.push_back(0.1 * std::cos(0.02 * t));
+    r.z.push_back(0.475 + 0.015 * std::sin(0.01 * t));
+    r.roll.push_back(0.1 * std::sin(0.05 * t));
+    r.pitch.push_back(0.1 * std::cos(0.04 * t));
+    r.yaw.push_back(0.1 * std::sin(0.07 * t));
+  }
+  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = kNone[k];
+  r.mode = "max_error";
+  r.alpha = 1e-9;
+  r.min_width = 1e-9;
+  r.time_budget = 30.0;
+  r.threads = 1;
+  return goalOf(r);
+}
+
+std::unique_ptr<Client> g_client;  // created in main() after ros::init, destroyed before ros shuts down
+
+Client& client() { return *g_client; }
+
+/// Records the feedback of a goal.
+struct FeedbackLog {
+  std::mutex mutex;
+  std::vector<VerifyTrajectoryFeedback> got;
+  Client::SimpleFeedbackCallback callback() {
+    return [this](const VerifyTrajectoryFeedbackConstPtr& f) {
+      std::lock_guard<std::mutex> lock(mutex);
+      got.push_back(*f);
+    };
+  }
+  bool waitForBoxes(double timeout) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
+    while (ros::WallTime::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!got.empty() && got.back().boxes > 0) return true;
+      }
+      ros::WallDuration(0.02).sleep();
+    }
+    return false;
+  }
+};
+
+TEST(TrajectoryAction, GoalAndResultAreTheServicesRequestAndResponse) {
+  EXPECT_STREQ(ros::message_traits::md5sum<VerifyTrajectoryGoal>(),
+               ros::message_traits::md5sum<VerifyTrajectory::Request>());
+  EXPECT_STREQ(ros::message_traits::md5sum<VerifyTrajectoryResult>(),
+               ros::message_traits::md5sum<VerifyTrajectory::Response>());
+  VerifyTrajectory::Request r = shortTrajectory(kGenerous);
+  r.interpolation = "linear_rpy";
+  r.mode = "max_error";
+  r.alpha = 0.25;
+  r.time_budget = 11.5;
+  r.min_width = 12.5;
+  r.threads = 13;
+  r.method = "precond";
+  r.frame_id = "somewhere";
+  EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
+
+  pkm_accuracy::ros_layer::WorkspaceOutcome o;
+  o.success = true;
+  o.message = "m";
+  o.busy = true;
+  o.job_id = 7;
+  o.verdict = "UNSAFE";
+  o.reason = "r";
+  for (std::size_t k = 0; k < 6; ++k) {
+    o.lower_bound[k] = 1.0 + static_cast<double>(k);
+    o.upper_bound[k] = 2.0 + static_cast<double>(k);
+    o.witness_pose[k] = 3.0 + static_cast<double>(k);
+    o.witness_error[k] = 4.0 + static_cast<double>(k);
+  }
+  o.converged = true;
+  o.lower_bound_times.assign(6, 0.5);
+  o.has_witness = true;
+  o.witness_t = 1.25;
+  o.witness_component = 3;
+  o.boxes = 8;
+  o.max_depth = 9;
+  o.threads = 10;
+  o.seconds = 11.0;
+  o.safe_fraction = 0.1;
+  o.unsafe_fraction = 0.2;
+  o.undecided_fraction = 0.3;
+  o.undecided_boxes = 12;
+  o.undecided_boxes_recorded = 13;
+  o.undecided_times = {{1.0, 1.5}, {2.0, 2.5}};
+  VerifyTrajectory::Response res;
+  VerifyTrajectoryResult result;
+  pkm_accuracy::ros_layer::toResponse(o, res);
+  pkm_accuracy::ros_layer::toResult(o, result);
+  EXPECT_EQ(bytes(result), bytes(res));
+}
+
+TEST(TrajectoryAction, SafeGoalSucceedsWithTheServicesVerdict) {
+  ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
+  const auto req = shortTrajectory(kGenerous);
+  const State state = client().sendGoalAndWait(goalOf(req), ros::Duration(20.0));
+  EXPECT_EQ(state, State::SUCCEEDED) << state.toString() << ": " << state.getText();
+  const auto result = client().getResult();
+  ASSERT_TRUE(result);
+  ASSERT_TRUE(result->success) << result->message;
+  EXPECT_EQ(result->verdict, VerifyTrajectoryResult::VERDICT_SAFE) << result->message;
+  EXPECT_FALSE(result->has_witness);
+  EXPECT_GT(result->job_id, 0u);
+  EXPECT_DOUBLE_EQ(result->safe_fraction, 1.0);
+
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(20.0)));
+  VerifyTrajectory srv;
+  srv.request = req;
+  ASSERT_TRUE(ros::service::call(kService, srv));
+  EXPECT_EQ(srv.response.verdict, result->verdict);
+  EXPECT_EQ(srv.response.job_id, result->job_id + 1);  // one job counter for every interface
+}
+
+TEST(TrajectoryAction, MalformedGoalIsRejectedNamingTheField) {
+  ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
+  auto req = shortTrajectory(kGenerous);
+  req.times = {1.0, 3.0, 2.0};
+  const State state = client().sendGoalAndWait(goalOf(req), ros::Duration(10.0));
+  EXPECT_EQ(state, State::REJECTED) << state.toString();
+  const auto result = client().getResult();
+  ASSERT_TRUE(result);
+  EXPECT_FALSE(result->success);
+  EXPECT_FALSE(result->busy);
+  EXPECT_EQ(result->job_id, 0u);
+  EXPECT_NE(result->message.find("times[2]"), std::string::npos) << result->message;
+  EXPECT_NE(state.getText().find("times[2]"), std::string::npos) << state.getText();
+}
+
+TEST(TrajectoryAction, FeedbackSharedJobLimitAndPromptCancelWithThePartialResult) {
+  ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
+  FeedbackLog log;
+  client().sendGoal(longGoal(), Client::SimpleDoneCallback(), Client::SimpleActiveCallback(), log.callback());
+  ASSERT_TRUE(log.waitForBoxes(15.0)) << "no feedback with boxes > 0";
+  EXPECT_EQ(client().getState(), State::ACTIVE) << client().getState().getText();
+
+  // The running goal counts against ~max_parallel_jobs = 1.
+  Client other(kAction, true);
+  ASSERT_TRUE(other.waitForServer(ros::Duration(10.0)));
+  const State refused = other.sendGoalAndWait(goalOf(shortTrajectory(kGenerous)), ros::Duration(10.0));
+  EXPECT_EQ(refused, State::REJECTED) << refused.toString();
+  ASSERT_TRUE(other.getResult());
+  EXPECT_TRUE(other.getResult()->busy);
+  EXPECT_NE(other.getResult()->message.find("action goal"), std::string::npos) << other.getResult()->message;
+
+  // Cancel: the job stops promptly and the goal ends PREEMPTED with what it had.
+  const ros::WallTime t0 = ros::WallTime::now();
+  client().cancelGoal();
+  ASSERT_TRUE(client().waitForResult(ros::Duration(10.0)));
+  EXPECT_LT((ros::WallTime::now() - t0).toSec(), 3.0);
+  EXPECT_EQ(client().getState(), State::PREEMPTED) << client().getState().getText();
+  const auto r = client().getResult();
+  ASSERT_TRUE(r);
+  ASSERT_TRUE(r->success) << r->message;
+  EXPECT_EQ(r->verdict, VerifyTrajectoryResult::VERDICT_UNDECIDED);
+  EXPECT_EQ(r->reason, "cancelled");
+  EXPECT_GT(r->boxes, 0u);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_LE(r->lower_bound[k], r->upper_bound[k]) << k;
+
+  std::lock_guard<std::mutex> lock(log.mutex);
+  ASSERT_FALSE(log.got.empty());
+  for (std::size_t i = 0; i < log.got.size(); ++i) {
+    const auto& f = log.got[i];
+    EXPECT_EQ(f.job_id, r->job_id);
+    EXPECT_EQ(f.mode, "max_error");
+    EXPECT_EQ(f.time_budget, 30.0);
+    EXPECT_EQ(f.lower.size(), 6u);
+    EXPECT_EQ(f.upper.size(), 6u);
+    EXPECT_LE(f.boxes, r->boxes);
+    if (i > 0) {
+      EXPECT_GE(f.boxes, log.got[i - 1].boxes);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "trajectory_action_test");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  g_client.reset(new Client(kAction, true));
+  const int status = RUN_ALL_TESTS();
+  g_client.reset();
+  return status;
+}
