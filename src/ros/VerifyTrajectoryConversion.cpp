@@ -1,5 +1,7 @@
 #include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
 
+#include "RequestFields.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -13,26 +15,10 @@ namespace ros_layer {
 namespace {
 
 const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
-constexpr std::uint32_t kMaxThreads = 1024;
 
-std::string num(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
-
-std::string idx(const char* field, std::size_t i) { return std::string(field) + "[" + std::to_string(i) + "]"; }
-
-/// An option where 0 means "default": finite and >= 0.
-bool option(double x, double dflt, const char* field, const char* expected, double& out, std::string& error) {
-  if (!std::isfinite(x) || x < 0.0) {
-    error = std::string(field) + ": expected " + expected + ", got " + num(x);
-    return false;
-  }
-  out = x == 0.0 ? dflt : x;
-  return true;
-}
+using fields::idx;
+using fields::num;
+using fields::option;
 
 bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& error) {
   const std::size_t n = req.times.size();
@@ -129,23 +115,9 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
               error)) {
     return false;
   }
-  if (req.threads > kMaxThreads) {
-    error = "threads: expected 0 (all hardware threads) to " + std::to_string(kMaxThreads) + ", got " +
-            std::to_string(req.threads);
-    return false;
-  }
+  if (!fields::threads(req.threads, error)) return false;
   q.threads = req.threads;
-  q.method = req.method.empty() ? defaults.method : req.method;
-  if (!q.method.empty()) {
-    const std::vector<std::string> methods = enclosure::enclosureNames();
-    if (std::find(methods.begin(), methods.end(), q.method) == methods.end()) {
-      std::string list;
-      for (const auto& m : methods) list += (list.empty() ? "\"" : ", \"") + m + "\"";
-      error = std::string(req.method.empty() ? "method (from ~default_method)" : "method") + ": expected one of " +
-              list + " or \"\" (default), got \"" + q.method + "\"";
-      return false;
-    }
-  }
+  if (!fields::method(req.method, defaults.method, q.method, error)) return false;
   out = q;
   return true;
 }

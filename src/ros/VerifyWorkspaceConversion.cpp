@@ -1,5 +1,7 @@
 #include "pkm_accuracy/ros/VerifyWorkspaceConversion.hpp"
 
+#include "RequestFields.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -13,16 +15,10 @@ namespace ros_layer {
 namespace {
 
 const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
-constexpr std::uint32_t kMaxThreads = 1024;
 
-std::string num(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
-
-std::string idx(const char* field, std::size_t i) { return std::string(field) + "[" + std::to_string(i) + "]"; }
+using fields::idx;
+using fields::num;
+using fields::option;
 
 bool finite(double x, const std::string& field, const char* unit, std::string& error) {
   if (std::isfinite(x)) return true;
@@ -43,17 +39,6 @@ bool positive(double x, const std::string& field, const char* unit, std::string&
   if (x > 0.0) return true;
   error = field + ": expected a number > 0 (" + unit + "), got " + num(x);
   return false;
-}
-
-/// An option where 0 means "default": finite, >= 0 (and < upper if given).
-bool option(double x, double dflt, const char* field, const char* expected, double upper, double& out,
-            std::string& error) {
-  if (!std::isfinite(x) || x < 0.0 || !(x < upper)) {
-    error = std::string(field) + ": expected " + expected + ", got " + num(x);
-    return false;
-  }
-  out = x == 0.0 ? dflt : x;
-  return true;
 }
 
 bool readRegion(const VerifyWorkspace::Request& req, PositionRegion& r, std::string& error) {
@@ -177,31 +162,16 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
     }
   }
 
-  if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", HUGE_VAL, q.alpha,
-              error) ||
-      !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)", HUGE_VAL,
+  if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", q.alpha, error) ||
+      !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)",
               q.time_budget, error) ||
-      !option(req.min_width, defaults.min_width, "min_width", "a finite number >= 0 (m / rad, 0 = default)", HUGE_VAL,
+      !option(req.min_width, defaults.min_width, "min_width", "a finite number >= 0 (m / rad, 0 = default)",
               q.min_width, error)) {
     return false;
   }
-  if (req.threads > kMaxThreads) {
-    error = "threads: expected 0 (all hardware threads) to " + std::to_string(kMaxThreads) + ", got " +
-            std::to_string(req.threads);
-    return false;
-  }
+  if (!fields::threads(req.threads, error)) return false;
   q.threads = req.threads;
-  q.method = req.method.empty() ? defaults.method : req.method;
-  if (!q.method.empty()) {
-    const std::vector<std::string> methods = enclosure::enclosureNames();
-    if (std::find(methods.begin(), methods.end(), q.method) == methods.end()) {
-      std::string list;
-      for (const auto& m : methods) list += (list.empty() ? "\"" : ", \"") + m + "\"";
-      error = std::string(req.method.empty() ? "method (from ~default_method)" : "method") + ": expected one of " +
-              list + " or \"\" (default), got \"" + q.method + "\"";
-      return false;
-    }
-  }
+  if (!fields::method(req.method, defaults.method, q.method, error)) return false;
   out = q;
   return true;
 }
