@@ -1,5 +1,5 @@
-// Checks of request fields shared by the /verify_workspace and /verify_trajectory translations. Each returns false
-// with `error` naming the field, what was expected and what was given. Internal to the ROS layer.
+// Checks of request fields and the response fields shared by the /verify_workspace and /verify_trajectory translations.
+// Each returns false with `error` naming the field, what was expected and what was given. Internal to the ROS layer.
 #pragma once
 
 #include <cmath>
@@ -22,6 +22,35 @@ bool threads(std::uint32_t requested, std::string& error);
 /// `method`: "" gives `dflt` (the node's ~default_method, itself possibly "" = the verifier's); any other value must
 /// be a registered enclosure method name.
 bool method(const std::string& requested, const std::string& dflt, std::string& out, std::string& error);
+
+/// The fields that the workspace and trajectory responses (and action results) share, from a job's outcome.
+template <class Response, class Outcome>
+void fillCommonResponse(const Outcome& o, Response& res) {
+  res.success = o.success;
+  res.message = o.message;
+  res.busy = o.busy;
+  res.job_id = o.job_id;
+  res.verdict = o.verdict;
+  res.reason = o.reason;
+  for (std::size_t k = 0; k < 6; ++k) {
+    res.lower_bound[k] = o.lower_bound[k];
+    res.upper_bound[k] = o.upper_bound[k];
+    res.witness_pose[k] = o.witness_pose[k];
+    res.witness_error[k] = o.witness_error[k];
+  }
+  res.converged = o.converged;
+  res.has_witness = o.has_witness;
+  res.witness_component = o.witness_component;
+  res.boxes = o.boxes;
+  res.max_depth = o.max_depth;
+  res.threads = o.threads;
+  res.seconds = o.seconds;
+  res.safe_fraction = o.safe_fraction;
+  res.unsafe_fraction = o.unsafe_fraction;
+  res.undecided_fraction = o.undecided_fraction;
+  res.undecided_boxes = o.undecided_boxes;
+  res.undecided_boxes_recorded = o.undecided_boxes_recorded;
+}
 
 }  // namespace fields
 }  // namespace ros_layer

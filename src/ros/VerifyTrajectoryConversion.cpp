@@ -127,32 +127,9 @@ namespace {
 // The response and the action result have the same fields.
 template <class Response>
 void fillResponse(const WorkspaceOutcome& o, Response& res) {
-  res.success = o.success;
-  res.message = o.message;
-  res.busy = o.busy;
-  res.job_id = o.job_id;
-  res.verdict = o.verdict;
-  res.reason = o.reason;
-  for (std::size_t k = 0; k < 6; ++k) {
-    res.lower_bound[k] = o.lower_bound[k];
-    res.upper_bound[k] = o.upper_bound[k];
-    res.witness_pose[k] = o.witness_pose[k];
-    res.witness_error[k] = o.witness_error[k];
-  }
-  res.converged = o.converged;
+  fields::fillCommonResponse(o, res);
   res.lower_bound_times = o.lower_bound_times;
-  res.has_witness = o.has_witness;
   res.witness_t = o.witness_t;
-  res.witness_component = o.witness_component;
-  res.boxes = o.boxes;
-  res.max_depth = o.max_depth;
-  res.threads = o.threads;
-  res.seconds = o.seconds;
-  res.safe_fraction = o.safe_fraction;
-  res.unsafe_fraction = o.unsafe_fraction;
-  res.undecided_fraction = o.undecided_fraction;
-  res.undecided_boxes = o.undecided_boxes;
-  res.undecided_boxes_recorded = o.undecided_boxes_recorded;
   res.undecided_t_start.clear();
   res.undecided_t_end.clear();
   for (const auto& iv : o.undecided_times) {
