@@ -2,6 +2,7 @@
 // Each returns false with `error` naming the field, what was expected and what was given. Internal to the ROS layer.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -23,12 +24,33 @@ bool threads(std::uint32_t requested, std::string& error);
 /// be a registered enclosure method name.
 bool method(const std::string& requested, const std::string& dflt, std::string& out, std::string& error);
 
-/// The fields that the workspace and trajectory responses (and action results) share, from a job's outcome.
+/// `thresholds`: six numbers > 0 (m, m, m, rad, rad, rad; +inf allowed); in max-error mode all six may be 0
+/// ("none given", then `given` is false).
+template <class Array>
+bool thresholds(const Array& requested, bool maxError, std::array<double, 6>& out, bool& given, std::string& error) {
+  static const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
+  bool allZero = true;
+  for (double t : requested) allZero = allZero && t == 0.0;
+  given = !(maxError && allZero);
+  if (!given) return true;
+  for (std::size_t k = 0; k < 6; ++k) {
+    const double t = requested[k];
+    if (!(t > 0.0)) {  // also rejects NaN; +inf is allowed
+      error = idx("thresholds", k) + " (" + kComponent[k] + "): expected a number > 0 (" + (k < 3 ? "m" : "rad") +
+              ") or .inf" + (maxError ? " (or all 0 in mode max_error)" : "") + ", got " + num(t);
+      return false;
+    }
+    out[k] = t;
+  }
+  return true;
+}
+
+/// The fields that the workspace and trajectory responses, action results and the ~verdict message share, from a
+/// job's outcome.
 template <class Response, class Outcome>
 void fillCommonResponse(const Outcome& o, Response& res) {
   res.success = o.success;
   res.message = o.message;
-  res.busy = o.busy;
   res.job_id = o.job_id;
   res.verdict = o.verdict;
   res.reason = o.reason;

@@ -14,8 +14,6 @@ namespace pkm_accuracy {
 namespace ros_layer {
 namespace {
 
-const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
-
 using fields::idx;
 using fields::num;
 using fields::option;
@@ -91,20 +89,8 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
   }
   if (!readWaypoints(req, q.trajectory, error)) return false;
 
-  bool all_zero = true;
-  for (double t : req.thresholds) all_zero = all_zero && t == 0.0;
-  q.has_thresholds = !(q.mode == QueryMode::MaxError && all_zero);
-  if (q.has_thresholds) {
-    for (std::size_t k = 0; k < 6; ++k) {
-      const double t = req.thresholds[k];
-      if (!(t > 0.0)) {  // also rejects NaN; +inf is allowed
-        error = idx("thresholds", k) + " (" + kComponent[k] + "): expected a number > 0 (" + (k < 3 ? "m" : "rad") +
-                ") or .inf" + (q.mode == QueryMode::MaxError ? " (or all 0 in mode max_error)" : "") + ", got " +
-                num(t);
-        return false;
-      }
-      q.thresholds[k] = t;
-    }
+  if (!fields::thresholds(req.thresholds, q.mode == QueryMode::MaxError, q.thresholds, q.has_thresholds, error)) {
+    return false;
   }
 
   // min_width is a duration (s) here; the node's ~default_min_width (m / rad, for workspaces) does not apply.
@@ -128,6 +114,7 @@ namespace {
 template <class Response>
 void fillResponse(const WorkspaceOutcome& o, Response& res) {
   fields::fillCommonResponse(o, res);
+  res.busy = o.busy;
   res.lower_bound_times = o.lower_bound_times;
   res.witness_t = o.witness_t;
   res.undecided_t_start.clear();

@@ -14,8 +14,6 @@ namespace pkm_accuracy {
 namespace ros_layer {
 namespace {
 
-const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
-
 using fields::idx;
 using fields::num;
 using fields::option;
@@ -146,20 +144,8 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
     q.workspace.angle_max[k] = angle_max[k];
   }
 
-  bool all_zero = true;
-  for (double t : req.thresholds) all_zero = all_zero && t == 0.0;
-  q.has_thresholds = !(q.mode == QueryMode::MaxError && all_zero);
-  if (q.has_thresholds) {
-    for (std::size_t k = 0; k < 6; ++k) {
-      const double t = req.thresholds[k];
-      if (!(t > 0.0)) {  // also rejects NaN; +inf is allowed
-        error = idx("thresholds", k) + " (" + kComponent[k] + "): expected a number > 0 (" + (k < 3 ? "m" : "rad") +
-                ") or .inf" + (q.mode == QueryMode::MaxError ? " (or all 0 in mode max_error)" : "") + ", got " +
-                num(t);
-        return false;
-      }
-      q.thresholds[k] = t;
-    }
+  if (!fields::thresholds(req.thresholds, q.mode == QueryMode::MaxError, q.thresholds, q.has_thresholds, error)) {
+    return false;
   }
 
   if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", q.alpha, error) ||
@@ -182,6 +168,7 @@ namespace {
 template <class Response>
 void fillResponse(const WorkspaceOutcome& o, Response& res) {
   fields::fillCommonResponse(o, res);
+  res.busy = o.busy;
   for (std::size_t k = 0; k < 6; ++k) {
     res.undecided_min[k] = o.undecided_min[k];
     res.undecided_max[k] = o.undecided_max[k];
@@ -273,32 +260,13 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.min_width = q.min_width;
   msg.threads_requested = q.threads;
 
-  msg.success = o.success;
-  msg.message = o.message;
-  msg.verdict = o.verdict;
-  msg.reason = o.reason;
+  fields::fillCommonResponse(o, msg);
   for (std::size_t k = 0; k < 6; ++k) {
-    msg.lower_bound[k] = o.lower_bound[k];
-    msg.upper_bound[k] = o.upper_bound[k];
-    msg.witness_pose[k] = o.witness_pose[k];
-    msg.witness_error[k] = o.witness_error[k];
     msg.undecided_min[k] = o.undecided_min[k];
     msg.undecided_max[k] = o.undecided_max[k];
   }
-  msg.converged = o.converged;
   msg.lower_bound_poses = o.lower_bound_poses;
-  msg.has_witness = o.has_witness;
-  msg.witness_component = o.witness_component;
-  msg.boxes = o.boxes;
-  msg.max_depth = o.max_depth;
-  msg.threads = o.threads;
-  msg.seconds = o.seconds;
-  msg.safe_fraction = o.safe_fraction;
-  msg.unsafe_fraction = o.unsafe_fraction;
-  msg.undecided_fraction = o.undecided_fraction;
   msg.outside_fraction = o.outside_fraction;
-  msg.undecided_boxes = o.undecided_boxes;
-  msg.undecided_boxes_recorded = o.undecided_boxes_recorded;
 }
 
 }  // namespace ros_layer
