@@ -22,6 +22,14 @@ using DMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, k
 using IVec = Eigen::Matrix<Interval, Eigen::Dynamic, 1, 0, kMaxDof, 1>;
 using IMat = Eigen::Matrix<Interval, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>;
 
+/// Largest number of uncertain geometry parameters a model may expose (Gough platform: 36 anchor coordinates + 3
+/// tool-point coordinates).
+constexpr int kMaxGeometryParameters = 48;
+/// Per geometry parameter values (fixed capacity, no heap).
+using GVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxGeometryParameters, 1>;
+/// Per component (rows) and geometry parameter (columns) values.
+using GMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxGeometryParameters>;
+
 /// Value and gradient (with respect to up to kMaxDof box variables) enclosed over a box.
 using DualI = interval::Dual<Interval, kMaxDof>;
 
@@ -33,6 +41,21 @@ using DualPose = std::array<DualI, kMaxDof>;
 struct MatrixWithGradient {
   IMat value;
   std::array<IMat, kMaxDof> d;
+};
+
+/// Enclosure of the derivative of one row of J^-1 with respect to one uncertain geometry parameter (a parameter may
+/// move several rows: one entry per row it moves).
+struct GeometryRowDerivative {
+  int parameter = 0;
+  int row = 0;
+  std::array<Interval, kMaxDof> d;
+};
+
+/// Derivatives of J^-1 with respect to every uncertain geometry parameter, as row entries (fixed capacity).
+struct GeometryDerivatives {
+  static constexpr int kCapacity = 64;
+  int count = 0;
+  std::array<GeometryRowDerivative, kCapacity> entries;
 };
 
 }  // namespace pkm_accuracy

@@ -1,5 +1,6 @@
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "pkm_accuracy/core/Exceptions.hpp"
@@ -69,7 +70,30 @@ bool errorGradient(const ErrorBounds& bounds, const std::vector<double>& sensorE
   return true;
 }
 
-bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f) {
+bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat* sensitivity) {
+  if (sensitivity) sensitivity->resize(0, 0);
+  const int dof = static_cast<int>(pose.size());
+  if (model.geometryParameterCount() > 0) {
+    // With uncertain geometry, interval coefficients treat every anchor coordinate as independent; the second-order
+    // form keeps the first-order effect of each one exact, which tightens both ends (the lower end is what
+    // certifies "exceeds for every admissible geometry"). The pose is a (thin) box: no box variables.
+    BoxInput in;
+    in.variables = 0;
+    in.pose = pose;
+    in.centrePose = pose;
+    in.deviation.resize(0);
+    for (int i = 0; i < dof; ++i) in.dualPose[i] = DualI(pose[i]);
+    for (int i = dof; i < kMaxDof; ++i) in.dualPose[i] = DualI(Interval(0.0));
+    in.hasGradient = true;
+    ErrorBounds b;
+    MeanValueEnclosure(true).enclose(model, in, b);
+    if (b.bounded()) {
+      f.resize(dof);
+      for (int k = 0; k < dof; ++k) f[k] = Interval(std::max(0.0, b.lower[k]), b.upper[k]);
+      if (sensitivity) *sensitivity = b.geometrySensitivity;
+      return true;
+    }
+  }
   const IMat m = model.inverseJacobian(pose);
   DMat c;
   if (!approximateInverse(midpoint(m), c)) return false;

@@ -75,14 +75,15 @@ IMat multiplyMidRad(const DMat& c, const IMat& a) {
   DMat m, r;
   midRad(a, m, r);
   const DMat ac = c.cwiseAbs();
-  return assemble(c * m, ac * m.cwiseAbs(), ac * r, static_cast<int>(c.cols()));
+  // Coefficient-based products (lazyProduct): 6 x 6 is far too small for Eigen's blocked GEMM.
+  return assemble(c.lazyProduct(m), ac.lazyProduct(m.cwiseAbs()), ac.lazyProduct(r), static_cast<int>(c.cols()));
 }
 
 IMat multiplyMidRad(const IMat& a, const DMat& c) {
   DMat m, r;
   midRad(a, m, r);
   const DMat ac = c.cwiseAbs();
-  return assemble(m * c, m.cwiseAbs() * ac, r * ac, static_cast<int>(c.rows()));
+  return assemble(m.lazyProduct(c), m.cwiseAbs().lazyProduct(ac), r.lazyProduct(ac), static_cast<int>(c.rows()));
 }
 
 IMat multiply(const IMat& a, const IMat& b) {

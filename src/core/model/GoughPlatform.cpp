@@ -1,7 +1,9 @@
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 
 #include <cmath>
+#include <sstream>
 
+#include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 
 namespace pkm_accuracy {
@@ -58,6 +60,35 @@ Interval around(double v, double h) {
   return h > 0.0 ? Interval(interval::rounding::subDown(v, h), interval::rounding::addUp(v, h)) : Interval(v);
 }
 
+/// Derivative of one row of J^-1, (n, m) = (d / L, (u x d) / L), given the derivatives dd of d and du of u:
+///   dL = (d . dd) / L,  dn = (dd - n dL) / L,  dm = (du x d + u x dd - m dL) / L.
+void rowDerivative(const Interval d[3], const Interval u[3], const Interval n[3], const Interval m[3],
+                   const Interval& len, const Interval dd[3], const Interval du[3], Interval out[6]) {
+  // One division: x / L is enclosed by x * [1 / L] (an enclosure of the reciprocal), at most an ulp or so wider.
+  const Interval inv = Interval(1.0) / len;
+  const Interval dl = (d[0] * dd[0] + d[1] * dd[1] + d[2] * dd[2]) * inv;
+  const Interval dw[3] = {du[1] * d[2] - du[2] * d[1] + (u[1] * dd[2] - u[2] * dd[1]),
+                          du[2] * d[0] - du[0] * d[2] + (u[2] * dd[0] - u[0] * dd[2]),
+                          du[0] * d[1] - du[1] * d[0] + (u[0] * dd[1] - u[1] * dd[0])};
+  for (int k = 0; k < 3; ++k) {
+    out[k] = (dd[k] - n[k] * dl) * inv;
+    out[3 + k] = (dw[k] - m[k] * dl) * inv;
+  }
+}
+
+/// R = Rz(yaw) Ry(pitch) Rx(roll) over a pose box.
+void rotation(const IVec& q, Interval r[3][3]) {
+  const Interval sr = interval::sin(q[3]), cr = interval::cos(q[3]);
+  const Interval sp = interval::sin(q[4]), cp = interval::cos(q[4]);
+  const Interval sy = interval::sin(q[5]), cy = interval::cos(q[5]);
+  const Interval cysp = cy * sp, sysp = sy * sp;
+  const Interval v[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
+                            {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
+                            {-sp, cp * sr, cp * cr}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r[i][j] = v[i][j];
+}
+
 }  // namespace
 
 GoughPlatform::GoughPlatform(GoughGeometry geometry) : geometry_(std::move(geometry)) {
@@ -72,6 +103,153 @@ GoughPlatform::GoughPlatform(GoughGeometry geometry) : geometry_(std::move(geome
     }
   }
   for (int k = 0; k < 3; ++k) c_[k] = around(geometry_.tool_point[k], geometry_.tool_point_halfwidth[k]);
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (!a_[i][k].isPoint()) params_.push_back({Parameter::Base, i, k});
+    }
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (!b_[i][k].isPoint()) params_.push_back({Parameter::Platform, i, k});
+    }
+  for (int k = 0; k < 3; ++k)
+    if (!c_[k].isPoint()) params_.push_back({Parameter::Tool, 0, k});
+  aMid_ = a_;
+  bMid_ = b_;
+  cMid_ = c_;
+  for (const Parameter& p : params_) slot(p, true) = Interval(slot(p, false).mid());
+}
+
+Interval& GoughPlatform::slot(const Parameter& p, bool centre) {
+  return const_cast<Interval&>(static_cast<const GoughPlatform*>(this)->slot(p, centre));
+}
+
+const Interval& GoughPlatform::slot(const Parameter& p, bool centre) const {
+  switch (p.kind) {
+    case Parameter::Base:
+      return centre ? aMid_[p.leg][p.coord] : a_[p.leg][p.coord];
+    case Parameter::Platform:
+      return centre ? bMid_[p.leg][p.coord] : b_[p.leg][p.coord];
+    default:
+      return centre ? cMid_[p.coord] : c_[p.coord];
+  }
+}
+
+std::string GoughPlatform::geometryParameterName(int p) const {
+  if (p < 0 || p >= geometryParameterCount()) return RobotModel::geometryParameterName(p);
+  static const char* kAxis[3] = {"x", "y", "z"};
+  const Parameter& q = params_[p];
+  std::ostringstream os;
+  if (q.kind == Parameter::Tool) {
+    os << "tool_point." << kAxis[q.coord];
+  } else {
+    os << (q.kind == Parameter::Base ? "base_anchors[" : "platform_anchors[") << q.leg << "]." << kAxis[q.coord];
+  }
+  return os.str();
+}
+
+Interval GoughPlatform::geometryParameterRange(int p) const {
+  if (p < 0 || p >= geometryParameterCount()) return RobotModel::geometryParameterRange(p);
+  return slot(params_[p], false);
+}
+
+double GoughPlatform::geometryParameterCentre(int p) const {
+  if (p < 0 || p >= geometryParameterCount()) return RobotModel::geometryParameterCentre(p);
+  return slot(params_[p], true).lower();
+}
+
+IMat GoughPlatform::inverseJacobianAtGeometryCentre(const IVec& pose) const {
+  Interval rows[6][6], len[6];
+  goughKinematics(pose.data(), aMid_, bMid_, cMid_, rows, len);
+  IMat m(6, 6);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) m(i, j) = rows[i][j];
+  return m;
+}
+
+bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out) const {
+  out.count = 0;
+  if (params_.empty()) return true;
+  Interval r[3][3];
+  rotation(q, r);
+  Interval d[6][3], u[6][3], n[6][3], m[6][3], len[6];
+  for (int i = 0; i < 6; ++i) {
+    const Interval bc[3] = {b_[i][0] - c_[0], b_[i][1] - c_[1], b_[i][2] - c_[2]};
+    for (int k = 0; k < 3; ++k) {
+      const Interval rb = r[k][0] * b_[i][0] + r[k][1] * b_[i][1] + r[k][2] * b_[i][2];
+      u[i][k] = r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2];
+      d[i][k] = q[k] + rb - a_[i][k];
+    }
+    len[i] = sqrt(sqr(d[i][0]) + sqr(d[i][1]) + sqr(d[i][2]));
+    for (int k = 0; k < 3; ++k) n[i][k] = d[i][k] / len[i];
+    m[i][0] = (u[i][1] * d[i][2] - u[i][2] * d[i][1]) / len[i];
+    m[i][1] = (u[i][2] * d[i][0] - u[i][0] * d[i][2]) / len[i];
+    m[i][2] = (u[i][0] * d[i][1] - u[i][1] * d[i][0]) / len[i];
+  }
+  const Interval zero(0.0);
+  auto add = [&](int p, int row, const Interval dd[3], const Interval du[3]) {
+    GeometryRowDerivative& e = out.entries[out.count++];
+    e.parameter = p;
+    e.row = row;
+    Interval v[6];
+    rowDerivative(d[row], u[row], n[row], m[row], len[row], dd, du, v);
+    for (int k = 0; k < 6; ++k) e.d[k] = v[k];
+  };
+  for (int p = 0; p < geometryParameterCount(); ++p) {
+    const Parameter& par = params_[p];
+    const Interval column[3] = {r[0][par.coord], r[1][par.coord], r[2][par.coord]};  // R e_coord
+    if (par.kind == Parameter::Base) {  // d = p + R b - A: dd = -e_coord; u does not move
+      Interval dd[3] = {zero, zero, zero};
+      dd[par.coord] = Interval(-1.0);
+      const Interval du[3] = {zero, zero, zero};
+      add(p, par.leg, dd, du);
+    } else if (par.kind == Parameter::Platform) {  // dd = du = R e_coord
+      add(p, par.leg, column, column);
+    } else {  // tool point: u = R (b - c) moves in every row, d does not
+      const Interval dd[3] = {zero, zero, zero};
+      const Interval du[3] = {-column[0], -column[1], -column[2]};
+      for (int row = 0; row < 6; ++row) add(p, row, dd, du);
+    }
+  }
+  return true;
+}
+
+std::unique_ptr<RobotModel> GoughPlatform::restrictGeometry(const std::vector<Interval>& ranges) const {
+  if (params_.empty()) return RobotModel::restrictGeometry(ranges);
+  if (ranges.size() != params_.size()) {
+    throw InvalidArgument("geometry ranges: expected " + std::to_string(params_.size()) + " values, got " +
+                          std::to_string(ranges.size()));
+  }
+  auto out = std::make_unique<GoughPlatform>(*this);
+  bool uncertain = false;
+  for (std::size_t p = 0; p < params_.size(); ++p) {
+    const Interval& current = slot(params_[p], false);
+    const Interval& r = ranges[p];
+    if (r.isEmpty() || r.lower() < current.lower() || r.upper() > current.upper()) {
+      std::ostringstream os;
+      os << "geometry ranges[" << p << "] (" << geometryParameterName(static_cast<int>(p)) << "): expected a "
+         << "non-empty sub-interval of " << current << ", got " << r;
+      throw InvalidArgument(os.str());
+    }
+    out->slot(params_[p], false) = r;
+    out->slot(params_[p], true) = Interval(r.mid());
+    uncertain = uncertain || !r.isPoint();
+    // Keep the plain description in step (point evaluations in double use it): centre and a covering half-width.
+    const double mid = r.mid();
+    const double half = std::max(interval::rounding::subUp(mid, r.lower()), interval::rounding::subUp(r.upper(), mid));
+    const Parameter& q = params_[p];
+    if (q.kind == Parameter::Base) {
+      out->geometry_.base_anchors[q.leg][q.coord] = mid;
+      out->geometry_.base_anchor_halfwidth[q.leg][q.coord] = half;
+    } else if (q.kind == Parameter::Platform) {
+      out->geometry_.platform_anchors[q.leg][q.coord] = mid;
+      out->geometry_.platform_anchor_halfwidth[q.leg][q.coord] = half;
+    } else {
+      out->geometry_.tool_point[q.coord] = mid;
+      out->geometry_.tool_point_halfwidth[q.coord] = half;
+    }
+  }
+  out->uncertain_ = uncertain;
+  return out;
 }
 
 std::string GoughPlatform::componentName(int k) const {
@@ -118,12 +296,21 @@ IVec GoughPlatform::legLengths(const IVec& pose) const {
 }
 
 void GoughPlatform::inverseJacobian(const DualPose& pose, MatrixWithGradient& out) const {
+  chainRule(pose, a_, b_, c_, out);
+}
+
+void GoughPlatform::inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const {
+  chainRule(pose, aMid_, bMid_, cMid_, out);
+}
+
+void GoughPlatform::chainRule(const DualPose& pose, const Anchors& a, const Anchors& b, const Tool& c,
+                              MatrixWithGradient& out) const {
   // Analytic derivatives with respect to the six pose coordinates (much cheaper than propagating six-component
   // gradients through every operation), then the chain rule through the pose map's own gradient.
   IVec q(6);
   for (int i = 0; i < 6; ++i) q[i] = pose[i].value();
   MatrixWithGradient byPose;
-  poseDerivatives(q, byPose);
+  derivatives(q, a, b, c, byPose);
   out.value = byPose.value;
   bool identity = true;
   for (int i = 0; i < 6 && identity; ++i)
@@ -147,7 +334,10 @@ void GoughPlatform::inverseJacobian(const DualPose& pose, MatrixWithGradient& ou
   }
 }
 
-void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) const {
+void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) const { derivatives(q, a_, b_, c_, out); }
+
+void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
+                                MatrixWithGradient& out) const {
   const Interval sr = interval::sin(q[3]), cr = interval::cos(q[3]);
   const Interval sp = interval::sin(q[4]), cp = interval::cos(q[4]);
   const Interval sy = interval::sin(q[5]), cy = interval::cos(q[5]);
@@ -163,11 +353,11 @@ void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) cons
   for (auto& d : out.d) d = IMat::Constant(6, 6, Interval(0.0));
   for (int i = 0; i < 6; ++i) {
     Interval rb[3], u[3], d[3];
-    const Interval bc[3] = {b_[i][0] - c_[0], b_[i][1] - c_[1], b_[i][2] - c_[2]};
+    const Interval bc[3] = {b[i][0] - c[0], b[i][1] - c[1], b[i][2] - c[2]};
     for (int k = 0; k < 3; ++k) {
-      rb[k] = r[k][0] * b_[i][0] + r[k][1] * b_[i][1] + r[k][2] * b_[i][2];
+      rb[k] = r[k][0] * b[i][0] + r[k][1] * b[i][1] + r[k][2] * b[i][2];
       u[k] = r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2];
-      d[k] = q[k] + rb[k] - a_[i][k];
+      d[k] = q[k] + rb[k] - a[i][k];
     }
     const Interval len = sqrt(sqr(d[0]) + sqr(d[1]) + sqr(d[2]));
     const Interval n[3] = {d[0] / len, d[1] / len, d[2] / len};
@@ -177,17 +367,11 @@ void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) cons
       out.value(i, k) = n[k];
       out.value(i, 3 + k) = m[k];
     }
-    // Derivatives of d and u for each pose variable, then of n = d / L and m = (u x d) / L:
-    //   dL = (d . dd) / L,  dn = (dd - n dL) / L,  dm = (du x d + u x dd - m dL) / L.
+    // Derivatives of d and u for each pose variable, then of n = d / L and m = (u x d) / L (rowDerivative).
     auto emit = [&](int var, const Interval dd[3], const Interval du[3]) {
-      const Interval dl = (d[0] * dd[0] + d[1] * dd[1] + d[2] * dd[2]) / len;
-      const Interval dw[3] = {du[1] * d[2] - du[2] * d[1] + (u[1] * dd[2] - u[2] * dd[1]),
-                              du[2] * d[0] - du[0] * d[2] + (u[2] * dd[0] - u[0] * dd[2]),
-                              du[0] * d[1] - du[1] * d[0] + (u[0] * dd[1] - u[1] * dd[0])};
-      for (int k = 0; k < 3; ++k) {
-        out.d[var](i, k) = (dd[k] - n[k] * dl) / len;
-        out.d[var](i, 3 + k) = (dw[k] - m[k] * dl) / len;
-      }
+      Interval v[6];
+      rowDerivative(d, u, n, m, len, dd, du, v);
+      for (int k = 0; k < 6; ++k) out.d[var](i, k) = v[k];
     };
     const Interval zero(0.0), one(1.0);
     const Interval du0[3] = {zero, zero, zero};
@@ -199,7 +383,7 @@ void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) cons
     {
       Interval dd[3], du[3];
       for (int k = 0; k < 3; ++k) {
-        dd[k] = r[k][2] * b_[i][1] - r[k][1] * b_[i][2];
+        dd[k] = r[k][2] * b[i][1] - r[k][1] * b[i][2];
         du[k] = r[k][2] * bc[1] - r[k][1] * bc[2];
       }
       emit(3, dd, du);
@@ -207,7 +391,7 @@ void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) cons
     {
       Interval dd[3], du[3];
       for (int k = 0; k < 3; ++k) {
-        dd[k] = dp[k][0] * b_[i][0] + dp[k][1] * b_[i][1] + dp[k][2] * b_[i][2];
+        dd[k] = dp[k][0] * b[i][0] + dp[k][1] * b[i][1] + dp[k][2] * b[i][2];
         du[k] = dp[k][0] * bc[0] + dp[k][1] * bc[1] + dp[k][2] * bc[2];
       }
       emit(4, dd, du);

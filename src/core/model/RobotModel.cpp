@@ -4,8 +4,28 @@
 
 #include "pkm_accuracy/core/Exceptions.hpp"
 
+#include <string>
+
 namespace pkm_accuracy {
 namespace model {
+
+namespace {
+[[noreturn]] void noParameter(const RobotModel& m, int p) {
+  throw InvalidArgument("geometry parameter " + std::to_string(p) + ": " + m.name() + " has " +
+                        std::to_string(m.geometryParameterCount()) + " uncertain geometry parameters");
+}
+}  // namespace
+
+std::string RobotModel::geometryParameterName(int p) const { noParameter(*this, p); }
+Interval RobotModel::geometryParameterRange(int p) const { noParameter(*this, p); }
+double RobotModel::geometryParameterCentre(int p) const { noParameter(*this, p); }
+bool RobotModel::geometryDerivatives(const IVec&, GeometryDerivatives& out) const {
+  out.count = 0;
+  return false;
+}
+std::unique_ptr<RobotModel> RobotModel::restrictGeometry(const std::vector<Interval>&) const {
+  throw InvalidArgument("geometry: " + name() + " has no uncertain geometry parameters to restrict");
+}
 
 DMat RobotModel::jacobian(const DVec& pose) const {
   const DMat m = inverseJacobian(pose);

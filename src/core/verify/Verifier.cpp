@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 
@@ -45,7 +46,23 @@ class AtomicDouble {
   std::atomic<double> v_;
 };
 
-enum class Stop : int { None = 0, Witness, BoxBudget, TimeBudget, Cancelled };
+enum class Stop : int { None = 0, Witness, Sensitive, BoxBudget, TimeBudget, Cancelled };
+
+/// A sub-box of the geometry parameters (strategy (b)) with the model restricted to it.
+struct GeometryPart {
+  std::vector<Interval> ranges;
+  std::unique_ptr<model::RobotModel> model;
+  int splits = 0;         ///< geometry bisections on the path to it
+  double fraction = 1.0;  ///< its share of the initial geometry box volume
+};
+
+/// What a search path carries besides its box: the geometry sub-box (null: every admissible geometry) and the
+/// progress of its bound (the excess over the target at the last improvement, and levels since).
+struct Track {
+  std::shared_ptr<const GeometryPart> geometry;
+  double ref = kInf;
+  int since = 0;
+};
 
 class Run {
  public:
@@ -60,7 +77,9 @@ class Run {
         lower_(static_cast<std::size_t>(n_)),
         discarded_(static_cast<std::size_t>(n_)),
         undecidedMax_(static_cast<std::size_t>(n_)),
-        argmax_(static_cast<std::size_t>(n_)) {
+        argmax_(static_cast<std::size_t>(n_)),
+        argmaxGeometry_(static_cast<std::size_t>(n_)),
+        params_(model.geometryParameterCount()) {
     minWidth_ = options.min_width.size() == m_ ? options.min_width : DVec(m_);
     initWidth_ = DVec(m_);
     for (int i = 0; i < m_; ++i) {
@@ -73,6 +92,10 @@ class Run {
       undecidedMax_[k] = std::make_unique<AtomicDouble>(0.0);
     }
     hasThresholds_ = options.thresholds.size() == n_;
+    for (int p = 0; p < params_; ++p) geometryRange_.push_back(model.geometryParameterRange(p));
+    int varying = 0;
+    for (int i = 0; i < m_; ++i) varying += initWidth_[i] > 0.0 ? 1 : 0;
+    stallLevels_ = options.stall_levels > 0 ? options.stall_levels : std::max(2, varying);
   }
 
   VerifierResult execute() {
@@ -91,12 +114,13 @@ class Run {
       // coarsely before any part of it is refined to the precision limit (a witness or a good lower bound found
       // anywhere ends or shortens the search), while memory stays bounded: once the next frontier holds
       // kMaxFrontier boxes, further boxes are searched depth-first without limit instead of being stored.
-      std::vector<PendingBox> frontier{{initial_, 0, (1u << n_) - 1u}};
+      std::vector<PendingBox> frontier{{initial_, 0, (1u << n_) - 1u, Track()}};
       for (int limit = kRoundDepth; !frontier.empty(); limit += kRoundDepth) {
         next_.clear();
         depthLimit_ = limit;
-        tbb::parallel_for(std::size_t(0), frontier.size(),
-                          [&](std::size_t i) { process(frontier[i].box, frontier[i].depth, frontier[i].active); });
+        tbb::parallel_for(std::size_t(0), frontier.size(), [&](std::size_t i) {
+          process(frontier[i].box, frontier[i].depth, frontier[i].active, frontier[i].track);
+        });
         frontier.swap(next_);
       }
     });
@@ -105,13 +129,14 @@ class Run {
 
  private:
   // ---- the branch-and-bound ----------------------------------------------------------------------------------------
-  void process(const IVec& box, int depth, unsigned active) {
+  void process(const IVec& box, int depth, unsigned active, const Track& track) {
     raiseInt(maxDepth_, depth);
     if (stopRequested()) {
-      recordUndecided(box, DVec::Constant(n_, kInf));
+      recordUndecided(box, DVec::Constant(n_, kInf), ~0u, track);
       return;
     }
-    const double vol = relativeVolume(box);
+    const double vol = relativeVolume(box) * (track.geometry ? track.geometry->fraction : 1.0);
+    const model::RobotModel& model = track.geometry ? *track.geometry->model : model_;
     const domain::Containment where = domain_.classify(box);
     if (where == domain::Containment::Outside) {
       outsideVol_.add(vol);
@@ -121,7 +146,7 @@ class Run {
     domain_.poseView(box, method_->needsGradient(), in);
     in.keepInternals = options_.monotonicity;
     enclosure::ErrorBounds bounds;
-    method_->enclose(model_, in, bounds);
+    method_->enclose(model, in, bounds);
     boxes_.fetch_add(1, std::memory_order_relaxed);
     maybeReportProgress();
     if (options_.monotonicity && where == domain::Containment::Inside) tightenByGradient(box, bounds, active);
@@ -140,7 +165,8 @@ class Run {
         safeVol_.add(vol);
         return;
       }
-      if (!options_.stop_at_first_witness && where == domain::Containment::Inside) {
+      // (Every pose of the box exceeds for every geometry: only when the box covers every admissible geometry.)
+      if (!options_.stop_at_first_witness && where == domain::Containment::Inside && !track.geometry) {
         for (int k = 0; k < n_; ++k) {
           if ((active & (1u << k)) && bounds.lower[k] > options_.thresholds[k]) {
             unsafeVol_.add(vol);
@@ -166,24 +192,118 @@ class Run {
     // says nothing about the boundary, and centres outside the region can never be witnesses): every other level
     // such a box is split by relative width instead.
     const bool byWidth = where == domain::Containment::Partial && depth % 2 == 1;
-    const int split = chooseSplit(box, depth, bounds, byWidth, active);
-    if (split < 0 || depth % std::max(1, options_.centre_check_period) == 0) {
+    double poseScore = -1.0;
+    const int split = chooseSplit(box, depth, bounds, byWidth, active, &poseScore);
+    // Geometric uncertainty: follow the progress of the bound; a box that keeps splitting without progress may
+    // bisect a geometry parameter instead (strategy (b)) when that is where the bound's width comes from.
+    Track next = track;
+    int geometrySplit = -1;
+    if (params_ > 0 && options_.geometry_splitting != GeometrySplitting::Never && !byWidth) {
+      const double excess = relativeExcess(bounds, active);
+      if (excess <= 0.9 * track.ref) {
+        next.ref = excess;
+        next.since = 0;
+      } else {
+        next.since = track.since + 1;
+      }
+      // Auto: a stalled box bisects its most influential geometry parameter (then gets pose splits again: its
+      // progress count restarts). Always: geometry parameters compete with the box variables by their scores.
+      const bool always = options_.geometry_splitting == GeometrySplitting::Always;
+      double geometryScore = -1.0;
+      if (always || next.since >= stallLevels_)
+        geometrySplit = chooseGeometrySplit(bounds, active, track, &geometryScore);
+      const bool comparable = options_.bisection == Bisection::Smear && bounds.componentSmear.rows() == n_;
+      if (always && geometrySplit >= 0 && split >= 0 && comparable && geometryScore <= poseScore) geometrySplit = -1;
+    }
+    if ((split < 0 && geometrySplit < 0) || depth % std::max(1, options_.centre_check_period) == 0) {
       checkCentre(box);
-      if (options_.mode == Mode::Verify && stop_.load() == static_cast<int>(Stop::Witness)) {
-        recordUndecided(box, bounds.upper);
+      const int stop = stop_.load();
+      if (options_.mode == Mode::Verify &&
+          (stop == static_cast<int>(Stop::Witness) || stop == static_cast<int>(Stop::Sensitive))) {
+        recordUndecided(box, bounds.upper, ~0u, track);
         return;
       }
     }
-    if (split < 0) {
-      recordUndecided(box, bounds.upper, active);
+    if (split < 0 && geometrySplit < 0) {
+      recordUndecided(box, bounds.upper, active, track);
+      return;
+    }
+    if (geometrySplit >= 0) {
+      if (!track.geometry) geometrySwitches_.fetch_add(1, std::memory_order_relaxed);
+      geometrySplits_.fetch_add(1, std::memory_order_relaxed);
+      const std::vector<Interval>& ranges = track.geometry ? track.geometry->ranges : geometryRange_;
+      const auto halves = ranges[geometrySplit].bisect();
+      next.since = 0;
+      Track first = next, second = next;
+      first.geometry = geometryPart(ranges, geometrySplit, halves.first, track);
+      second.geometry = geometryPart(ranges, geometrySplit, halves.second, track);
+      descend(box, box, depth, active, first, second);
       return;
     }
     const auto halves = box[split].bisect();
     IVec left = box, right = box;
     left[split] = halves.first;
     right[split] = halves.second;
-    if (depth + 1 >= depthLimit_ && deferToNextRound(left, right, depth + 1, active)) return;
-    tbb::parallel_invoke([&] { process(left, depth + 1, active); }, [&] { process(right, depth + 1, active); });
+    descend(left, right, depth, active, next, next);
+  }
+
+  void descend(const IVec& left, const IVec& right, int depth, unsigned active, const Track& first,
+               const Track& second) {
+    if (depth + 1 >= depthLimit_ && deferToNextRound(left, right, depth + 1, active, first, second)) return;
+    tbb::parallel_invoke([&] { process(left, depth + 1, active, first); },
+                         [&] { process(right, depth + 1, active, second); });
+  }
+
+  /// Largest relative excess of a still-active component's bound over its target (progress measure).
+  double relativeExcess(const enclosure::ErrorBounds& bounds, unsigned active) const {
+    double worst = 0.0;
+    for (int k = 0; k < n_; ++k) {
+      if (!(active & (1u << k))) continue;
+      const double goal = target(k);
+      if (!std::isfinite(bounds.upper[k]) || !(goal > 0.0)) return kInf;
+      worst = std::max(worst, (bounds.upper[k] - goal) / goal);
+    }
+    return worst;
+  }
+
+  /// The geometry parameter to bisect: the largest share of the width of a still-active component's bound (weighted
+  /// like chooseSplit), among those wider than 1/kGeometryMinFraction of their initial range; -1 if none.
+  int chooseGeometrySplit(const enclosure::ErrorBounds& bounds, unsigned active, const Track& track,
+                          double* scoreOut) const {
+    if (bounds.geometrySmear.rows() != n_ || bounds.geometrySmear.cols() != params_) return -1;
+    if (track.geometry && track.geometry->splits >= kMaxGeometrySplits) return -1;
+    const std::vector<Interval>& ranges = track.geometry ? track.geometry->ranges : geometryRange_;
+    int best = -1;
+    double bestScore = 0.0;
+    for (int p = 0; p < params_; ++p) {
+      const double width = ranges[p].upper() - ranges[p].lower();
+      const double initial = geometryRange_[p].upper() - geometryRange_[p].lower();
+      if (!(width > initial / kGeometryMinFraction)) continue;
+      double score = 0.0;
+      for (int k = 0; k < n_; ++k) {
+        if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
+        const double goal = target(k);
+        const double excess = goal > 0.0 ? bounds.upper[k] / goal : 1.0;
+        score = std::max(score, excess * bounds.geometrySmear(k, p));
+      }
+      if (score > bestScore) {
+        bestScore = score;
+        best = p;
+      }
+    }
+    *scoreOut = bestScore;
+    return best;
+  }
+
+  std::shared_ptr<const GeometryPart> geometryPart(const std::vector<Interval>& ranges, int p, const Interval& half,
+                                                   const Track& parent) const {
+    auto part = std::make_shared<GeometryPart>();
+    part->ranges = ranges;
+    part->ranges[p] = half;
+    part->model = model_.restrictGeometry(part->ranges);
+    part->splits = (parent.geometry ? parent.geometry->splits : 0) + 1;
+    part->fraction = (parent.geometry ? parent.geometry->fraction : 1.0) * 0.5;
+    return part;
   }
 
   /// Derivative information for the components that their bound does not close (seed paper section 4.2 and the
@@ -224,21 +344,22 @@ class Run {
         bounds.upper[k] = bound.upper();
         gradientHits_.fetch_add(1, std::memory_order_relaxed);
       }
-      evaluatePoint(point, thinBox(point));
+      evaluatePoint(point, thinBox(point), box);
     }
   }
 
   /// Stores both children for the next round unless the frontier is full (then the caller goes on depth-first).
-  bool deferToNextRound(const IVec& left, const IVec& right, int depth, unsigned active) {
+  bool deferToNextRound(const IVec& left, const IVec& right, int depth, unsigned active, const Track& first,
+                        const Track& second) {
     std::lock_guard<std::mutex> lock(frontierMutex_);
     if (next_.size() + 2 > kMaxFrontier) return false;
-    next_.push_back({left, depth, active});
-    next_.push_back({right, depth, active});
+    next_.push_back({left, depth, active, first});
+    next_.push_back({right, depth, active, second});
     return true;
   }
 
-  int chooseSplit(const IVec& box, int depth, const enclosure::ErrorBounds& bounds, bool byWidth,
-                  unsigned active) const {
+  int chooseSplit(const IVec& box, int depth, const enclosure::ErrorBounds& bounds, bool byWidth, unsigned active,
+                  double* scoreOut) const {
     int best = -1;
     double bestScore = -1.0;
     auto splittable = [&](int i) { return box[i].upper() - box[i].lower() > minWidth_[i] && initWidth_[i] > 0.0; };
@@ -273,6 +394,7 @@ class Run {
         best = i;
       }
     }
+    *scoreOut = bestScore;
     return best;
   }
 
@@ -284,7 +406,7 @@ class Run {
     const DVec c = domain::centreOf(box);
     const IVec thin = thinBox(c);
     if (domain_.classify(thin) == domain::Containment::Inside) {
-      evaluatePoint(c, thin);
+      evaluatePoint(c, thin, box);
       return;
     }
     for (int i = 0; i < m_; ++i) {
@@ -296,18 +418,24 @@ class Run {
         IVec p = thin;
         p[i] = Interval(t[i]);
         if (domain_.classify(p) == domain::Containment::Inside) {
-          evaluatePoint(t, p);
+          evaluatePoint(t, p, box);
           return;
         }
       }
     }
   }
 
-  void evaluatePoint(const DVec& t, const IVec& thin) {
+  /// Certified evaluation at one point of the domain (`region`: the search box it belongs to). Verify mode: a
+  /// witness (exceeds for every admissible geometry) or, with uncertain geometry, an uncertainty-sensitive pose
+  /// (exceeds for some admissible geometry). Max-error mode: better lower bounds (with uncertain geometry, at the
+  /// geometry that the first-order terms say maximises each component there). `mayStop`: allowed to end the search.
+  void evaluatePoint(const DVec& t, const IVec& thin, const IVec& region, bool mayStop = true) {
     if (domain_.classify(thin) != domain::Containment::Inside) return;
     IVec f;
+    GMat sensitivity;
     const IVec pose = domain_.poseAt(t);
-    if (!enclosure::errorAtPose(model_, pose, f)) return;
+    if (!enclosure::errorAtPose(model_, pose, f, params_ > 0 ? &sensitivity : nullptr)) return;
+    const bool bySensitivity = params_ > 0 && sensitivity.rows() == n_ && sensitivity.cols() == params_;
     if (options_.mode == Mode::Verify) {
       for (int k = 0; k < n_; ++k) {
         if (f[k].lower() > options_.thresholds[k]) {
@@ -325,14 +453,72 @@ class Run {
           return;
         }
       }
+      if (!bySensitivity) return;
+      for (int k = 0; k < n_; ++k) {
+        if (!(f[k].upper() > options_.thresholds[k])) continue;
+        std::vector<double> failing;
+        IVec fw;
+        if (!enclosure::errorAtPose(*vertexModel(sensitivity, k, 1.0, failing), pose, fw)) continue;
+        if (!(fw[k].lower() > options_.thresholds[k])) continue;
+        SensitivePose s;
+        s.point = t;
+        s.pose = pose;
+        s.region = region;
+        s.component = k;
+        s.failing_geometry = failing;
+        s.failing_lower = fw[k].lower();
+        std::vector<double> passing;
+        IVec fp;
+        if (enclosure::errorAtPose(*vertexModel(sensitivity, k, -1.0, passing), pose, fp) &&
+            fp[k].upper() <= options_.thresholds[k]) {
+          s.passing_geometry = passing;
+          s.passing_upper = fp[k].upper();
+          s.passes_all = true;
+          for (int j = 0; j < n_; ++j) s.passes_all = s.passes_all && fp[j].upper() <= options_.thresholds[j];
+        }
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          ++result_.sensitive_count;
+          if (result_.sensitive.size() < options_.max_recorded_boxes) result_.sensitive.push_back(std::move(s));
+        }
+        if (options_.stop_at_first_witness && mayStop) requestStop(Stop::Sensitive);
+        return;
+      }
     } else {
       for (int k = 0; k < n_; ++k) {
-        if (lower_[k]->raise(f[k].lower())) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          if (f[k].lower() >= lower_[k]->load()) argmax_[k] = t;
+        raiseLower(k, f[k].lower(), t, {});
+        if (!bySensitivity || !(f[k].upper() > lower_[k]->load())) continue;
+        std::vector<double> worst;
+        IVec fw;
+        if (enclosure::errorAtPose(*vertexModel(sensitivity, k, 1.0, worst), pose, fw)) {
+          raiseLower(k, fw[k].lower(), t, worst);
         }
       }
     }
+  }
+
+  void raiseLower(int k, double value, const DVec& t, const std::vector<double>& geometry) {
+    if (lower_[k]->raise(value)) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (value >= lower_[k]->load()) {
+        argmax_[k] = t;
+        argmaxGeometry_[k] = geometry;
+      }
+    }
+  }
+
+  /// The model at the vertex of the geometry box that the sensitivities of component k point to (direction +1:
+  /// raising its error, -1: lowering it); `values` receives the vertex.
+  std::unique_ptr<model::RobotModel> vertexModel(const GMat& sensitivity, int k, double direction,
+                                                 std::vector<double>& values) const {
+    std::vector<Interval> point(static_cast<std::size_t>(params_));
+    values.resize(static_cast<std::size_t>(params_));
+    for (int p = 0; p < params_; ++p) {
+      const Interval& r = geometryRange_[p];
+      values[p] = sensitivity(k, p) * direction >= 0.0 ? r.upper() : r.lower();
+      point[p] = Interval(values[p]);
+    }
+    return model_.restrictGeometry(point);
   }
 
   /// Grid sampling before the search: quick witnesses (e.g. singular corners) and first lower bounds.
@@ -367,7 +553,7 @@ class Run {
       if (options_.mode == Mode::Verify) {
         for (int k = 0; k < n_; ++k) {
           if (f[k] > options_.thresholds[k]) {
-            evaluatePoint(t, thin);
+            evaluatePoint(t, thin, thin, false);
             if (haveWitness_ && options_.stop_at_first_witness) return;
             break;
           }
@@ -384,8 +570,13 @@ class Run {
     if (options_.mode == Mode::MaxError) {
       for (int k = 0; k < n_; ++k) {
         if (best[k] < 0.0) continue;
-        evaluatePoint(bestPoint[k], thinBox(bestPoint[k]));
+        evaluatePoint(bestPoint[k], thinBox(bestPoint[k]), thinBox(bestPoint[k]));
       }
+    }
+    // An uncertainty-sensitive pose rules SAFE out; it ends the search (when asked to stop at the first evidence)
+    // only now, so that every sampled point could first show a witness for every geometry.
+    if (options_.mode == Mode::Verify && options_.stop_at_first_witness && result_.sensitive_count > 0) {
+      requestStop(Stop::Sensitive);
     }
   }
 
@@ -416,13 +607,16 @@ class Run {
     return v;
   }
 
-  void recordUndecided(const IVec& box, const DVec& upper, unsigned active = ~0u) {
-    undecidedVol_.add(relativeVolume(box));
+  void recordUndecided(const IVec& box, const DVec& upper, unsigned active = ~0u, const Track& track = Track()) {
+    undecidedVol_.add(relativeVolume(box) * (track.geometry ? track.geometry->fraction : 1.0));
     for (int k = 0; k < n_; ++k)
       if (active & (1u << k)) undecidedMax_[k]->raise(upper[k]);
     std::lock_guard<std::mutex> lock(mutex_);
     ++result_.undecided_box_count;
-    if (result_.undecided_boxes.size() < options_.max_recorded_boxes) result_.undecided_boxes.push_back({box, upper});
+    if (result_.undecided_boxes.size() < options_.max_recorded_boxes) {
+      result_.undecided_boxes.push_back(
+          {box, upper, track.geometry ? track.geometry->ranges : std::vector<Interval>()});
+    }
   }
 
   bool stopRequested() {
@@ -466,6 +660,8 @@ class Run {
     s.outside_fraction = outsideVol_.load();
     s.threads = result_.stats.threads;
     s.monotonicity_hits = gradientHits_.load();
+    s.geometry_switches = geometrySwitches_.load();
+    s.geometry_splits = geometrySplits_.load();
     return s;
   }
 
@@ -507,6 +703,22 @@ class Run {
         r.reason = UndecidedReason::None;
         msg << "UNSAFE: " << model_.componentName(r.witness_component) << " error >= " << r.witness_lower_bound
             << " > threshold " << options_.thresholds[r.witness_component] << " at a certified witness";
+      } else if (r.sensitive_count > 0) {
+        const SensitivePose& s = r.sensitive.front();
+        r.verdict = Verdict::Undecided;
+        r.reason = UndecidedReason::UncertaintySensitive;
+        msg << "UNDECIDED (uncertainty_sensitive): " << model_.componentName(s.component)
+            << " exceeds its threshold for some admissible geometries (certified error >= " << s.failing_lower << " > "
+            << options_.thresholds[s.component] << ")";
+        if (!s.passing_geometry.empty()) {
+          msg << " and stays below it for others (<= " << s.passing_upper << ")";
+        }
+        msg << " at " << r.sensitive_count << " certified pose(s), e.g. in the region";
+        for (int i = 0; i < s.region.size(); ++i) {
+          msg << (i == 0 ? " " : ", ") << domain_.variableName(i) << " [" << s.region[i].lower() << ", "
+              << s.region[i].upper() << "]";
+        }
+        msg << "; no pose was found where it exceeds for every admissible geometry";
       } else if (r.undecided_box_count == 0) {
         r.verdict = Verdict::Safe;
         r.reason = UndecidedReason::None;
@@ -521,6 +733,7 @@ class Run {
       r.max_lower = DVec(n_);
       r.max_upper = DVec(n_);
       r.max_argmax = argmax_;
+      if (params_ > 0) r.max_argmax_geometry = argmaxGeometry_;
       r.converged = r.undecided_box_count == 0;
       for (int k = 0; k < n_; ++k) {
         r.max_lower[k] = lower_[k]->load();
@@ -571,6 +784,7 @@ class Run {
     IVec box;
     int depth;
     unsigned active;
+    Track track;
   };
   static constexpr int kRoundDepth = 12;
   static constexpr std::size_t kMaxFrontier = 1u << 17;  // ~130k boxes, ~25 MB
@@ -586,6 +800,13 @@ class Run {
   AtomicDouble safeVol_, unsafeVol_, undecidedVol_, outsideVol_;
   std::vector<std::unique_ptr<AtomicDouble>> lower_, discarded_, undecidedMax_;
   std::vector<DVec> argmax_;
+  std::vector<std::vector<double>> argmaxGeometry_;
+  const int params_;                     ///< uncertain geometry parameters of the model
+  std::vector<Interval> geometryRange_;  ///< their initial ranges
+  int stallLevels_ = 2;
+  static constexpr int kMaxGeometrySplits = 12;       ///< geometry bisections per search path at most
+  static constexpr double kGeometryMinFraction = 64;  ///< geometry ranges are not split below 1/64 of the initial
+  std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0};
   std::mutex mutex_, progressMutex_;
   bool haveWitness_ = false;
   VerifierResult result_;

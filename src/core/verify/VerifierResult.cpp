@@ -29,6 +29,8 @@ std::string toString(UndecidedReason r) {
       return "cancelled";
     case UndecidedReason::NoThresholds:
       return "no_thresholds";
+    case UndecidedReason::UncertaintySensitive:
+      return "uncertainty_sensitive";
   }
   return "none";
 }

@@ -47,6 +47,12 @@ struct ErrorBounds {
   /// Per component k and box variable i: share of the width of component k's bound due to variable i (relative
   /// to the bound), so that a search can split for the components it still needs; may be empty.
   DMat componentSmear;
+  /// Geometry parameters (model::RobotModel::geometryParameterCount() > 0; second-order method only, else empty):
+  /// per component k and parameter p, the share of the width of component k's bound due to p (relative to the
+  /// bound), and the estimated derivative d f_k / d g_p at the box (its sign says which end of the range of p
+  /// raises the error).
+  GMat geometrySmear;
+  GMat geometrySensitivity;
   bool bounded() const { return upper.size() > 0 && upper.allFinite(); }
   EnclosureInternals internals;  ///< filled by the mean-value methods when BoxInput::keepInternals is set
 };
@@ -77,8 +83,10 @@ IVec errorFromJacobian(const IMat& jacobian, const std::vector<double>& sensorEr
 
 /// Certified enclosure of f_k at the poses of a (thin) pose box, by preconditioned interval Gauss elimination.
 /// lower() of each entry is a certified lower bound of the worst error at that pose (for every admissible
-/// geometry). @return false if J^-1 could not be inverted there (singular or nearly so).
-bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f);
+/// geometry). With uncertain geometry parameters the second-order form tightens both ends, and `sensitivity` (if
+/// given) receives its estimate of d f_k / d g_p there (empty otherwise). @return false if J^-1 could not be
+/// inverted there (singular or nearly so).
+bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat* sensitivity = nullptr);
 
 /// The same in double at a nominal pose (not certified; +inf if singular).
 DVec errorAtPoseDouble(const model::RobotModel& model, const DVec& pose);

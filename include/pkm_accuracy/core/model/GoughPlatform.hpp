@@ -4,6 +4,9 @@
 #pragma once
 
 #include <array>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
 #include "pkm_accuracy/core/model/RobotModel.hpp"
@@ -29,6 +32,15 @@ class GoughPlatform final : public RobotModel {
   IMat inverseJacobian(const IVec& pose) const override;
   void inverseJacobian(const DualPose& pose, MatrixWithGradient& out) const override;
 
+  int geometryParameterCount() const override { return static_cast<int>(params_.size()); }
+  std::string geometryParameterName(int p) const override;
+  Interval geometryParameterRange(int p) const override;
+  double geometryParameterCentre(int p) const override;
+  IMat inverseJacobianAtGeometryCentre(const IVec& pose) const override;
+  void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override;
+  bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
+  std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
+
   /// Enclosure of the leg lengths over a pose box (every admissible geometry).
   IVec legLengths(const IVec& pose) const;
 
@@ -42,9 +54,26 @@ class GoughPlatform final : public RobotModel {
  private:
   GoughGeometry geometry_;
   bool uncertain_;
-  // Anchors and tool point as intervals (degenerate when known exactly), used by the enclosures.
-  std::array<std::array<Interval, 3>, 6> a_, b_;
-  std::array<Interval, 3> c_;
+  /// Geometry parameter p: which coordinate it is.
+  struct Parameter {
+    enum Kind { Base, Platform, Tool } kind;
+    int leg;    ///< 0..5 (unused for the tool point)
+    int coord;  ///< 0..2
+  };
+  using Anchors = std::array<std::array<Interval, 3>, 6>;
+  using Tool = std::array<Interval, 3>;
+  /// poseDerivatives / inverseJacobian(DualPose) for given anchors and tool point.
+  void derivatives(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixWithGradient& out) const;
+  void chainRule(const DualPose& pose, const Anchors& a, const Anchors& b, const Tool& c,
+                 MatrixWithGradient& out) const;
+  Interval& slot(const Parameter& p, bool centre);
+  const Interval& slot(const Parameter& p, bool centre) const;
+
+  // Anchors and tool point as intervals (degenerate when known exactly), used by the enclosures; and the same at
+  // the centre of every uncertain coordinate's range (degenerate).
+  std::array<std::array<Interval, 3>, 6> a_, b_, aMid_, bMid_;
+  std::array<Interval, 3> c_, cMid_;
+  std::vector<Parameter> params_;
 };
 
 }  // namespace model

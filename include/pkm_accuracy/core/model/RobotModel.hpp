@@ -5,6 +5,7 @@
 // Everything here is ROS-free and thread-safe for concurrent const use.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,35 @@ class RobotModel {
   /// Enclosures of J^-1 and of its derivatives with respect to the box variables, for a pose given as a function
   /// of those variables (value + gradient), e.g. the identity map of a workspace box or a trajectory.
   virtual void inverseJacobian(const DualPose& pose, MatrixWithGradient& out) const = 0;
+
+  // ---- geometry parameters (bounded uncertainty as variables) --------------------------------------------------
+  // The uncertain coordinates of the geometry (those with a non-zero half-width) as parameters p = 0..count-1, each
+  // ranging over an interval. They let the enclosures keep the correlations of the uncertainty (first-order terms
+  // per parameter, strategy (b) of the seed paper without extra dimensions) and let a search bisect them
+  // (restrictGeometry). Models without this support keep the defaults: uncertainty as interval coefficients only.
+
+  /// Number of uncertain geometry parameters (<= kMaxGeometryParameters); 0 when the geometry is exact.
+  virtual int geometryParameterCount() const { return 0; }
+  /// Name of parameter p, e.g. "base_anchors[2].y". @throws InvalidArgument if p is out of range.
+  virtual std::string geometryParameterName(int p) const;
+  /// The interval parameter p ranges over (m). @throws InvalidArgument if p is out of range.
+  virtual Interval geometryParameterRange(int p) const;
+  /// The value of parameter p that inverseJacobianAtGeometryCentre() uses (a point of the range, near its middle).
+  virtual double geometryParameterCentre(int p) const;
+  /// Enclosure of J^-1 over a pose box with every geometry parameter at its centre value.
+  virtual IMat inverseJacobianAtGeometryCentre(const IVec& pose) const { return inverseJacobian(pose); }
+  /// inverseJacobian(DualPose) with every geometry parameter at its centre value.
+  virtual void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const {
+    inverseJacobian(pose, out);
+  }
+  /// Enclosures, over a pose box and every admissible geometry, of the derivatives of J^-1 with respect to the
+  /// geometry parameters. @return false if the model does not provide them.
+  virtual bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const;
+  /// The same robot with parameter p restricted to ranges[p] (a sub-interval of geometryParameterRange(p), possibly
+  /// a single value); the parameter numbering is kept. Used to bisect the geometry and to evaluate one geometry.
+  /// @throws InvalidArgument if the size is wrong, a range is empty or leaves the current range; or if the model
+  ///         has no geometry parameters.
+  virtual std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const;
 
   // ---- helpers built on the above ------------------------------------------------------------------------------
   /// J = (J^-1)^-1 at a pose. @throws SingularMatrix if J^-1 is (numerically) singular there.

@@ -24,6 +24,15 @@ enum class Bisection {
   RoundRobin,          ///< cycle through the variables by depth (the seed paper's baseline)
 };
 
+/// How bounded geometric uncertainty (the model's geometry parameters) enters the search. In every mode the
+/// enclosures carry it as interval coefficients plus exact first-order terms per parameter (strategy (a) of the
+/// seed paper, tightened); the geometry parameters may also be bisected (strategy (b)).
+enum class GeometrySplitting {
+  Auto,    ///< a box whose bound stops improving under bisection switches to bisecting the geometry; default
+  Never,   ///< never bisect the geometry (strategy (a) only)
+  Always,  ///< the geometry parameters compete with the box variables for every split from the start
+};
+
 struct Progress;
 
 struct VerifierOptions {
@@ -61,6 +70,11 @@ struct VerifierOptions {
   /// the point where the monotone variables are at their maximising ends, plus |d f_k / d t_i| x reach for the
   /// others.
   bool monotonicity = false;
+  /// Geometric uncertainty: see GeometrySplitting.
+  GeometrySplitting geometry_splitting = GeometrySplitting::Auto;
+  /// Auto: a box "keeps splitting without progress" after this many bisection levels without reducing its bound's
+  /// excess over the target by 10% (0: the number of box variables).
+  int stall_levels = 0;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
 };

@@ -11,7 +11,17 @@ namespace pkm_accuracy {
 namespace verify {
 
 enum class Verdict { Safe, Unsafe, Undecided };
-enum class UndecidedReason { None, PrecisionLimit, BoxBudget, TimeBudget, Cancelled, NoThresholds };
+/// UncertaintySensitive: a certified pose where some admissible geometry exceeds a threshold and none was found that
+/// exceeds it for every geometry (so SAFE is impossible, UNSAFE not proven): see VerifierResult::sensitive.
+enum class UndecidedReason {
+  None,
+  PrecisionLimit,
+  BoxBudget,
+  TimeBudget,
+  Cancelled,
+  NoThresholds,
+  UncertaintySensitive
+};
 
 std::string toString(Verdict v);          ///< "SAFE", "UNSAFE", "UNDECIDED"
 std::string toString(UndecidedReason r);  ///< "none", "precision_limit", "box_budget", "time_budget", ...
@@ -28,6 +38,10 @@ struct Statistics {
   double outside_fraction = 0.0;
   int threads = 1;
   std::size_t monotonicity_hits = 0;  ///< component bounds tightened by the derivative (monotonicity) step
+  /// Geometric uncertainty: boxes that switched from interval coefficients to bisecting the geometry (strategy (a)
+  /// to (b); one per search path), and all bisections of a geometry parameter.
+  std::size_t geometry_switches = 0;
+  std::size_t geometry_splits = 0;
 };
 
 struct Progress {
@@ -40,6 +54,26 @@ struct Progress {
 struct BoxRecord {
   IVec box;    ///< in the domain's variables
   DVec upper;  ///< per component (+inf if unbounded)
+  /// Ranges of the geometry parameters the box was searched with (after bisecting the geometry, strategy (b));
+  /// empty: every admissible geometry.
+  std::vector<Interval> geometry;
+};
+
+/// A certified pose where the answer depends on the geometric uncertainty: component `component` exceeds its
+/// threshold for the admissible geometry `failing_geometry` (certified: error >= failing_lower), while no certified
+/// bound shows it exceeding for every geometry. If `passing_geometry` is not empty, that admissible geometry keeps
+/// the component below its threshold there (certified: error <= passing_upper); `passes_all` says whether it keeps
+/// every component below its threshold.
+struct SensitivePose {
+  DVec point;   ///< in the domain's variables
+  IVec pose;    ///< enclosure of the pose (x, y, z, roll, pitch, yaw)
+  IVec region;  ///< the search box it was found in (the pose region concerned)
+  int component = -1;
+  std::vector<double> failing_geometry;  ///< one value per geometry parameter (model::geometryParameterName)
+  double failing_lower = 0.0;
+  std::vector<double> passing_geometry;
+  double passing_upper = 0.0;
+  bool passes_all = false;
 };
 
 struct VerifierResult {
@@ -58,7 +92,15 @@ struct VerifierResult {
   DVec max_lower;                ///< attained: f_k(max_argmax[k]) >= max_lower[k]
   DVec max_upper;                ///< max over the domain of f_k <= max_upper[k] (+inf if unbounded)
   std::vector<DVec> max_argmax;  ///< per component: the variables of a point attaining max_lower
-  bool converged = false;        ///< MaxError: upper - lower <= alpha for every component
+  /// With uncertain geometry, per component: the geometry (one value per parameter) attaining max_lower at
+  /// max_argmax (empty when the bound holds for every geometry).
+  std::vector<std::vector<double>> max_argmax_geometry;
+  bool converged = false;  ///< MaxError: upper - lower <= alpha for every component
+
+  /// Verify mode with uncertain geometry: the first certified uncertainty-sensitive poses (at most
+  /// options.max_recorded_boxes) and how many were found.
+  std::vector<SensitivePose> sensitive;
+  std::size_t sensitive_count = 0;
 
   std::vector<BoxRecord> undecided_boxes;  ///< at most options.max_recorded_boxes
   std::size_t undecided_box_count = 0;     ///< all of them

@@ -1,0 +1,96 @@
+// Enclosure of N(t, g) v over a box of poses t AND the box of uncertain geometry parameters g, where
+// N = (C J^-1(t, g))^-1 and C is an approximate inverse of J^-1 at the box centre with the geometry at its centre.
+//
+// With E = C J^-1 - I = E0 + sum_i D_i (t_i - t0_i) + sum_p G_p (g_p - g0_p) + (higher order), N = I - E + E^2 N:
+//   (N v)_k in (v - E0 v)_k - sum_i (D_i v)_k dev_i - sum_p (G_p v)_k dev_p  +/-  second-order remainder,
+// where every first-order term is exact per variable (the cancellations across legs are kept, unlike interval
+// coefficients, which widen every entry of E independently). The remainder splits E = S + L, S the pose part
+// (including E0) and L the geometry part, and bounds E^2 N v = S E y + L S y + L L y (y = N v) with
+//   |S E y| + |L S y| <= (|S| (|S| + |L|) + |L| |S|) |y|,   |y| <= (I - |E|)^-1 |v| (verified),
+// (in |S L y| the factor L y keeps its cancellations: |L y| <= |C| B, B_j = sum over row j's parameters of
+// |d_p . y| h_p), and L L y through the structure of L: each parameter moves one row i of J^-1 (G_p = C e_i d_p^T, d_p
+// the derivative of that row), so (L L y)_k = sum_{p,q} C_ki(p) (d_p . C_{.,i(q)}) (d_q . y) dev_p dev_q keeps the
+// cancellations inside the dot products. Nothing here is heuristic: every bound is rigorous (rounding included).
+//
+// This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
+// O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
+#pragma once
+
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+
+namespace pkm_accuracy {
+namespace enclosure {
+
+class AffineInverseAction {
+ public:
+  /// Capacity of the geometry entries (GeometryDerivatives::kCapacity).
+  static constexpr int kEntries = GeometryDerivatives::kCapacity;
+  using EntryMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kEntries, kMaxDof>;     ///< entries x n
+  using RowEntryMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kEntries>;  ///< n x entries
+
+  /// Affine forms of the entries of N V over the box: entry (k, j) is
+  ///   centre(k, j) + sum_i pose[i](k, j) tau_i + sum_p geometry[j](k, p) gamma_p + [-radius(k, j), radius(k, j)]
+  /// for every (t, g) of the box, with tau_i = (t_i - t0_i) / |t_i - t0_i|max and gamma_p = (g_p - g0_p) / h_p in
+  /// [-1, 1], the same for every entry. So linear combinations of entries (sum_j w_j (N V)_kj) keep their
+  /// first-order cancellations: combine() encloses them.
+  struct AffineMatrix {
+    int rows = 0, cols = 0, vars = 0, params = 0;
+    DMat centre, radius;
+    std::array<DMat, kMaxDof> pose;  ///< pose[i](k, j)
+    /// The part of radius(k, j) due to the uncertainty of pose[i](k, j) itself (the derivative enclosure's radius
+    /// times the reach): with |pose| it is variable i's share of the width (bisection hints).
+    std::array<DMat, kMaxDof> poseSpread;
+    std::array<GMat, kMaxDof> geometry;  ///< geometry[j](k, p)
+    /// Enclosure of entry (k, j).
+    Interval entry(int k, int j) const;
+  };
+
+  /// A linear combination sum_j w_j (N V)_kj of one row, as an affine form (rigorous: rounding in `radius`).
+  struct Combination {
+    double centre = 0.0, radius = 0.0;
+    double pose[kMaxDof];
+    double poseSpread[kMaxDof];  ///< included in radius; for bisection hints
+    double geometry[kMaxGeometryParameters];
+    /// Upper / lower end of its range over the box (rounded outward).
+    double upper() const;
+    double lower() const;
+    /// this += other (same box): coefficients add, radii add (rounded up).
+    void add(const Combination& other);
+    int vars = 0, params = 0;
+  };
+  /// sum_j w[j] (N V)_kj for row k of an AffineMatrix (w: one exact weight per column).
+  static void combine(const AffineMatrix& a, int k, const double* w, Combination& out);
+
+  /// Builds the expansion for a box (box.dualPose must be filled).
+  /// @return false if it cannot be built: singular centre, no geometry derivatives, or sizes out of range.
+  bool prepare(const model::RobotModel& model, const BoxInput& box);
+
+  /// The preconditioner C (valid after prepare()).
+  const DMat& preconditioner() const { return c_; }
+  int parameters() const { return params_; }
+
+  /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
+  /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).
+  bool apply(const IMat& v, AffineMatrix& out) const;
+
+ private:
+  int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
+  DMat c_;
+  DMat e0m_, e0r_;                       ///< C J^-1(centre, g0) - I, midpoint and radius
+  std::array<DMat, kMaxDof> dm_, dr_;    ///< C dJ^-1/dt_i over the box and geometry, midpoint and radius
+  double devMag_[kMaxDof];               ///< |t_i - t0_i| <=
+  EntryMat gm_, gr_;                     ///< row derivative d_e per geometry entry (at the centre pose, geometry box)
+  RowEntryMat cg_;                       ///< (k, e): C_{k, row(e)}
+  RowEntryMat cgh_;                      ///< (k, e): |C_{k, row(e)}| h_p(e)
+  RowEntryMat rowSel_;                   ///< (j, e): h_p(e) if row(e) = j
+  EntryMat alpha_;                       ///< (e, j): bound of |d_e . C_{.,j}|
+  int param_[kEntries];                  ///< parameter of each entry
+  double h_[kMaxGeometryParameters];     ///< |g_p - g0_p| <=
+  DMat magE_, magS_, magE0_, absC_, q_;  ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
+  std::array<DMat, kMaxDof> magD_;       ///< |D_i|
+  EntryMat magG_;                        ///< |d_e|
+  DMat ls_;                              ///< |L| |S|
+};
+
+}  // namespace enclosure
+}  // namespace pkm_accuracy

@@ -1,0 +1,286 @@
+#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+#include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
+
+namespace pkm_accuracy {
+namespace enclosure {
+namespace {
+
+// Everything below is computed in double, in midpoint-radius form, with a priori rounding-error bounds valid in
+// any rounding mode: a sum of at most 64 products has relative error below gamma_66 < 1.5e-14, so
+//   |fl(A B) - A B| <= 1e-13 |A| |B|  (computed, also in floating point: the margin covers that),
+// and a non-negative quantity evaluated in floating point is bounded by up(its computed value).
+constexpr double kGamma = 1e-13;
+inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
+
+template <typename M>
+M upAll(const M& m) {
+  M r(m.rows(), m.cols());
+  for (int i = 0; i < m.rows(); ++i)
+    for (int j = 0; j < m.cols(); ++j) r(i, j) = up(m(i, j));
+  return r;
+}
+
+/// Midpoint and radius (rounded up) of an interval.
+inline void split(const Interval& x, double& m, double& r) {
+  m = x.mid();
+  r = up(std::max(interval::rounding::subUp(m, x.lower()), interval::rounding::subUp(x.upper(), m)));
+}
+
+template <typename M>
+void split(const IMat& a, M& m, M& r) {
+  m.resize(a.rows(), a.cols());
+  r.resize(a.rows(), a.cols());
+  for (int i = 0; i < a.rows(); ++i)
+    for (int j = 0; j < a.cols(); ++j) split(a(i, j), m(i, j), r(i, j));
+}
+
+/// Rigorous midpoint-radius product: [am +- ar] [bm +- br] within [m +- r], with
+///   r = up(|am| (br + gamma |bm|) + ar (|bm| + br))
+/// (coefficient-based products: these matrices are at most 64 x 6, too small for blocked GEMM).
+template <typename A, typename B, typename R>
+void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
+  m.noalias() = am.lazyProduct(bm);
+  const B ba = bm.cwiseAbs();
+  const B inner = br + kGamma * ba;
+  const B outer = ba + br;
+  r.noalias() = am.cwiseAbs().lazyProduct(inner);
+  r.noalias() += ar.lazyProduct(outer);
+  r = upAll(r);
+}
+
+}  // namespace
+
+bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box) {
+  n_ = model.dof();
+  vars_ = box.variables;
+  params_ = model.geometryParameterCount();
+  if (params_ <= 0 || params_ > kMaxGeometryParameters) return false;
+  const IMat centre = model.inverseJacobianAtGeometryCentre(box.centrePose);
+  if (!approximateInverse(midpoint(centre), c_)) return false;
+  static thread_local GeometryDerivatives geo;
+  // E(t, g) - E0 = [E(t, g) - E(t, g0)] + [E(t, g0) - E(t0, g0)]: geometry derivatives over the pose box and every
+  // geometry, pose derivatives over the pose box at the centre geometry (both mean-value forms, exact).
+  if (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0) return false;
+  static thread_local MatrixWithGradient poseD;
+  if (vars_ > 0) model.inverseJacobianAtGeometryCentre(box.dualPose, poseD);
+  entries_ = geo.count;
+
+  IMat e0 = multiplyMidRad(c_, centre);
+  for (int i = 0; i < n_; ++i) e0(i, i) -= Interval(1.0);
+  split(e0, e0m_, e0r_);
+  DMat magS = e0m_.cwiseAbs() + e0r_;
+  for (int i = 0; i < vars_; ++i) {
+    split(multiplyMidRad(c_, poseD.d[i]), dm_[i], dr_[i]);
+    devMag_[i] = box.deviation[i].mag();
+    magS += (dm_[i].cwiseAbs() + dr_[i]) * devMag_[i];
+  }
+  magS = upAll(magS);
+  for (int p = 0; p < params_; ++p) {
+    h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
+  }
+
+  gm_.resize(entries_, n_);
+  gr_.resize(entries_, n_);
+  cg_.resize(n_, entries_);
+  cgh_.resize(n_, entries_);
+  rowSel_ = RowEntryMat::Zero(n_, entries_);
+  for (int e = 0; e < entries_; ++e) {
+    const GeometryRowDerivative& g = geo.entries[e];
+    param_[e] = g.parameter;
+    for (int l = 0; l < n_; ++l) split(g.d[l], gm_(e, l), gr_(e, l));
+    const double h = h_[g.parameter];
+    for (int k = 0; k < n_; ++k) {
+      cg_(k, e) = c_(k, g.row);
+      cgh_(k, e) = up(std::abs(c_(k, g.row)) * h);
+    }
+    rowSel_(g.row, e) = h;
+  }
+  // |L| <= sum_e |C_{., row(e)}| h_p |d_e|^T, i.e. cgh (|gm| + gr).
+  const EntryMat magG = upAll(EntryMat(gm_.cwiseAbs() + gr_));
+  const DMat magL = upAll(DMat(cgh_.lazyProduct(magG)));
+  // alpha(e, j) >= |d_e . C_{.,j}| for every d_e in its enclosure.
+  {
+    EntryMat m, r;
+    const DMat zero = DMat::Zero(n_, n_);
+    product(gm_, gr_, c_, zero, m, r);
+    alpha_ = upAll(EntryMat(m.cwiseAbs() + r));
+  }
+  magE_ = upAll(DMat(magS + magL));
+  magS_ = magS;
+  magE0_ = upAll(DMat(e0m_.cwiseAbs() + e0r_));
+  absC_ = c_.cwiseAbs();
+  for (int i = 0; i < vars_; ++i) magD_[i] = upAll(DMat(dm_[i].cwiseAbs() + dr_[i]));
+  magG_ = magG;
+  ls_ = upAll(DMat(magL.lazyProduct(magS)));
+  // q_ ~ (I - |E|)^-1: any approximation; apply() verifies what it gives.
+  DMat iMinus = -magE_;
+  for (int i = 0; i < n_; ++i) iMinus(i, i) += 1.0;
+  Eigen::PartialPivLU<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>> lu(iMinus);
+  q_ = lu.inverse();
+  return q_.allFinite() && magE_.allFinite() && alpha_.allFinite() && magL.allFinite();
+}
+
+bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
+  const int m = static_cast<int>(v.cols());
+  DMat vm, vr;
+  split(v, vm, vr);
+  const DMat absV = upAll(DMat(vm.cwiseAbs() + vr));
+  if (!absV.allFinite()) return false;
+
+  // Y0 = V - E0 V.
+  DMat ym, yr;
+  product(e0m_, e0r_, vm, vr, ym, yr);
+  ym = vm - ym;
+  yr = upAll(DMat(yr + vr + kGamma * (vm.cwiseAbs() + ym.cwiseAbs())));
+
+  // Z >= |N V| column by column: Y = V - E Y gives |Y| <= |V| + |E| |Y|; if (I - |E|) z >= w > 0 with w >= |v| then
+  // |E| z < z, so rho(|E|) < 1, (I - |E|)^-1 >= 0 and |y| <= (I - |E|)^-1 |v| <= z.
+  DMat w = absV;
+  for (int j = 0; j < m; ++j) {
+    const double largest = absV.col(j).maxCoeff();
+    for (int l = 0; l < n_; ++l) w(l, j) += 1e-300 + 1e-20 * largest;
+  }
+  DMat z = q_.lazyProduct(w);
+  for (int j = 0; j < m; ++j)
+    for (int l = 0; l < n_; ++l) z(l, j) = up(std::max(z(l, j), w(l, j))) * (1.0 + 1e-9);
+  bool ok = false;
+  for (int attempt = 0; attempt < 4 && !ok; ++attempt) {
+    const DMat next = upAll(DMat(w + upAll(DMat(magE_.lazyProduct(z)))));
+    ok = true;
+    for (int j = 0; j < m; ++j)
+      for (int l = 0; l < n_; ++l) {
+        if (!(next(l, j) <= z(l, j))) {
+          ok = false;
+          z(l, j) = std::max(z(l, j), next(l, j)) * 1.01;
+        }
+      }
+  }
+  if (!ok) return false;
+
+  // |Y - Y0| = |-(E - E0) V + E^2 Y| <= |E| |V| + |E| |E| Z  (delta).
+  const DMat delta = upAll(
+      DMat(upAll(DMat(magE_.lazyProduct(absV))) + upAll(DMat(magE_.lazyProduct(upAll(DMat(magE_.lazyProduct(z))))))));
+
+  // Geometry: DV = D_G V (first-order terms; also inside L L Y, as y = v + (y - v)).
+  EntryMat dvm, dvr;
+  product(gm_, gr_, vm, vr, dvm, dvr);
+  const EntryMat magDV = upAll(EntryMat(dvm.cwiseAbs() + dvr));
+  // beta(e, col) >= |d_e . y| <= |d_e . v| + |d_e| (|E0| |v| + delta)   (y - v = (y0 - v) + (y - y0)).
+  const DMat spread = upAll(DMat(delta + upAll(DMat(magE0_.lazyProduct(absV)))));
+  const EntryMat beta = upAll(EntryMat(magDV + upAll(EntryMat(magG_.lazyProduct(spread)))));
+  // B(j, col) = sum over entries of row j of beta h;  Gamma = alpha B;  L L Y <= cgh Gamma.
+  const DMat b = upAll(DMat(rowSel_.lazyProduct(beta)));
+  const EntryMat gamma = upAll(EntryMat(alpha_.lazyProduct(b)));
+  // E^2 Y = S S Y + S L Y + L S Y + L L Y (S: pose part with E0, L: geometry part):
+  //   |S S y| <= |S| |S| z;   |S L y| <= |S| |L y| <= |S| |C| B (the dot products d_e . y keep their cancellations);
+  //   |L S y| <= |L| |S| z;   |L L y| <= cgh Gamma.
+  const DMat ssy = upAll(DMat(magS_.lazyProduct(upAll(DMat(magS_.lazyProduct(z))))));
+  const DMat sly = upAll(DMat(magS_.lazyProduct(upAll(DMat(absC_.lazyProduct(b))))));
+  const DMat lsy = upAll(DMat(ls_.lazyProduct(z)));
+  const DMat remainder = upAll(DMat(upAll(DMat(ssy + sly)) + upAll(DMat(lsy + upAll(DMat(cgh_.lazyProduct(gamma)))))));
+  // Affine forms (N V = Y0 - sum_i D_i V dev_i - sum_p G_p V dev_p + E^2 N V). Pose terms -(D_i V)(k, j) (t_i - t0_i)
+  // = -[pm +- pr] devMag tau_i: coefficient -pm devMag, the rest
+  // (pr devMag and the rounding of the product) to the radius. Geometry terms (G_p V)(k, j) (g_p - g0_p) with
+  // (G_p V)(k, j) = sum over the entries e of p of C_{k,row(e)} [dvm +- dvr](e, j): coefficient
+  // sum_e C_{k,row(e)} dvm(e, j) h_p, the rest (|C| h dvr and the roundings) to the radius.
+  out.rows = n_;
+  out.cols = m;
+  out.vars = vars_;
+  out.params = params_;
+  out.centre = ym;
+  DMat radius = upAll(DMat(yr + remainder));
+  for (int i = 0; i < vars_; ++i) {
+    DMat pm, pr;
+    product(dm_[i], dr_[i], vm, vr, pm, pr);
+    out.pose[i] = -pm * devMag_[i];
+    out.poseSpread[i] = upAll(DMat(upAll(DMat(pr * devMag_[i])) + kGamma * out.pose[i].cwiseAbs()));
+    radius += out.poseSpread[i];
+  }
+  radius += upAll(DMat(cgh_.lazyProduct(upAll(EntryMat(dvr + kGamma * dvm.cwiseAbs())))));
+  for (int j = 0; j < m; ++j) {
+    GMat& g = out.geometry[j];
+    g = GMat::Zero(n_, params_);
+    for (int e = 0; e < entries_; ++e) {
+      const double d = dvm(e, j) * h_[param_[e]];
+      for (int k = 0; k < n_; ++k) g(k, param_[e]) -= cg_(k, e) * d;
+    }
+  }
+  // Rounding of those sums: at most a few products and sums each, relative error < kGamma of sum |terms|.
+  radius += upAll(DMat(kGamma * upAll(DMat(cgh_.lazyProduct(EntryMat(dvm.cwiseAbs()))))));
+  out.radius = upAll(radius);
+  return out.radius.allFinite() && out.centre.allFinite();
+}
+
+Interval AffineInverseAction::AffineMatrix::entry(int k, int j) const {
+  double r = radius(k, j);
+  for (int i = 0; i < vars; ++i) r += std::abs(pose[i](k, j));
+  for (int p = 0; p < params; ++p) r += std::abs(geometry[j](k, p));
+  r = up(r);
+  return Interval(interval::rounding::subDown(centre(k, j), r), interval::rounding::addUp(centre(k, j), r));
+}
+
+void AffineInverseAction::combine(const AffineMatrix& a, int k, const double* w, Combination& out) {
+  out.vars = a.vars;
+  out.params = a.params;
+  double centre = 0.0, radius = 0.0, scale = 0.0;
+  for (int i = 0; i < a.vars; ++i) out.pose[i] = out.poseSpread[i] = 0.0;
+  for (int p = 0; p < a.params; ++p) out.geometry[p] = 0.0;
+  for (int j = 0; j < a.cols; ++j) {
+    if (w[j] == 0.0) continue;
+    const double aw = std::abs(w[j]);
+    centre += w[j] * a.centre(k, j);
+    radius += aw * a.radius(k, j);
+    double size = std::abs(a.centre(k, j));
+    for (int i = 0; i < a.vars; ++i) {
+      out.pose[i] += w[j] * a.pose[i](k, j);
+      out.poseSpread[i] += aw * a.poseSpread[i](k, j);
+      size += std::abs(a.pose[i](k, j));
+    }
+    for (int p = 0; p < a.params; ++p) {
+      out.geometry[p] += w[j] * a.geometry[j](k, p);
+      size += std::abs(a.geometry[j](k, p));
+    }
+    scale += aw * size;
+  }
+  // Every coefficient is a sum of at most kMaxDof products: its rounding error is below kGamma * aw * size.
+  out.centre = centre;
+  out.radius = up(up(radius) + kGamma * up(scale));
+}
+
+void AffineInverseAction::Combination::add(const Combination& other) {
+  // Each sum a + b has rounding error below 2^-53 |a + b| <= kGamma (|a| + |b|).
+  double scale = std::abs(centre) + std::abs(other.centre);
+  centre += other.centre;
+  for (int i = 0; i < vars; ++i) {
+    scale += std::abs(pose[i]) + std::abs(other.pose[i]);
+    pose[i] += other.pose[i];
+    poseSpread[i] += other.poseSpread[i];
+  }
+  for (int p = 0; p < params; ++p) {
+    scale += std::abs(geometry[p]) + std::abs(other.geometry[p]);
+    geometry[p] += other.geometry[p];
+  }
+  radius = up(up(radius + other.radius) + kGamma * up(scale));
+}
+
+double AffineInverseAction::Combination::upper() const {
+  double r = radius;
+  for (int i = 0; i < vars; ++i) r += std::abs(pose[i]);
+  for (int p = 0; p < params; ++p) r += std::abs(geometry[p]);
+  return interval::rounding::addUp(centre, up(r));
+}
+
+double AffineInverseAction::Combination::lower() const {
+  double r = radius;
+  for (int i = 0; i < vars; ++i) r += std::abs(pose[i]);
+  for (int p = 0; p < params; ++p) r += std::abs(geometry[p]);
+  return interval::rounding::subDown(centre, up(r));
+}
+
+}  // namespace enclosure
+}  // namespace pkm_accuracy
