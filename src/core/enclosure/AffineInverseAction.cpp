@@ -143,7 +143,9 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   DMat w = absV;
   for (int j = 0; j < m; ++j) {
     const double largest = absV.col(j).maxCoeff();
-    for (int l = 0; l < n_; ++l) w(l, j) += 1e-300 + 1e-20 * largest;
+    // A floor relative to the column keeps the verification below from failing on entries of |v| that are tiny
+    // next to the others (their slack would drown in the rounding margins); it only loosens z by 1e-9 of |v|max.
+    for (int l = 0; l < n_; ++l) w(l, j) += 1e-300 + 1e-9 * largest;
   }
   DMat z = q_.lazyProduct(w);
   for (int j = 0; j < m; ++j)
@@ -152,13 +154,14 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   for (int attempt = 0; attempt < 4 && !ok; ++attempt) {
     const DMat next = upAll(DMat(w + upAll(DMat(magE_.lazyProduct(z)))));
     ok = true;
-    for (int j = 0; j < m; ++j)
-      for (int l = 0; l < n_; ++l) {
-        if (!(next(l, j) <= z(l, j))) {
-          ok = false;
-          z(l, j) = std::max(z(l, j), next(l, j)) * 1.01;
-        }
-      }
+    for (int j = 0; j < m; ++j) {
+      bool column = true;
+      for (int l = 0; l < n_; ++l) column = column && next(l, j) <= z(l, j);
+      if (column) continue;
+      // Raise the whole column (raising single entries would break the others through |E|).
+      ok = false;
+      for (int l = 0; l < n_; ++l) z(l, j) = std::max(z(l, j), next(l, j)) * 1.01;
+    }
   }
   if (!ok) return false;
 

@@ -73,7 +73,7 @@ bool errorGradient(const ErrorBounds& bounds, const std::vector<double>& sensorE
 bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat* sensitivity) {
   if (sensitivity) sensitivity->resize(0, 0);
   const int dof = static_cast<int>(pose.size());
-  if (model.geometryParameterCount() > 0) {
+  if (model.geometryParameterCount() > 0 && model.hasGeometryUncertainty()) {
     // With uncertain geometry, interval coefficients treat every anchor coordinate as independent; the second-order
     // form keeps the first-order effect of each one exact, which tightens both ends (the lower end is what
     // certifies "exceeds for every admissible geometry"). The pose is a (thin) box: no box variables.

@@ -32,10 +32,35 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   const int vars = box.variables;
   const int params = act.parameters();
   const DMat& c = act.preconditioner();
-  IMat cols(n, n);
-  for (int j = 0; j < n; ++j)
-    for (int l = 0; l < n; ++l) cols(l, j) = Interval(c(l, j));
-  if (!act.apply(cols, jac)) return false;  // J = N C
+  // J = N C, column by column, for the columns with an entry whose sign is not known yet (from a containing box).
+  const SignPattern& known = box.knownSigns;
+  int need[kMaxDof];
+  int needed = 0;
+  for (int j = 0; j < n; ++j) {
+    bool all = true;
+    for (int k = 0; k < n; ++k) all = all && known.known(k * n + j);
+    if (!all) need[needed++] = j;
+  }
+  Interval entryOf[kMaxDof][kMaxDof];
+  if (needed > 0) {
+    IMat cols(n, needed);
+    for (int q = 0; q < needed; ++q)
+      for (int l = 0; l < n; ++l) cols(l, q) = Interval(c(l, need[q]));
+    if (!act.apply(cols, jac)) return false;
+    for (int q = 0; q < needed; ++q)
+      for (int k = 0; k < n; ++k) entryOf[k][need[q]] = jac.entry(k, q);
+  }
+  out.signs = SignPattern();
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      const int bit = k * n + j;
+      if (known.known(bit)) {
+        // Only the sign is used for a known entry (its magnitude bound is never needed: it is not undetermined).
+        entryOf[k][j] = Interval(known.sign(bit));
+      }
+      if (entryOf[k][j].lower() > 0.0) out.signs.positive |= std::uint64_t(1) << bit;
+      if (entryOf[k][j].upper() < 0.0) out.signs.negative |= std::uint64_t(1) << bit;
+    }
   const std::vector<double>& e = model.sensorError();
   // One column per row and choice of the undetermined signs.
   struct Column {
@@ -49,8 +74,8 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
     Interval entries[kMaxDof];
     double rowSize = 0.0;
     for (int j = 0; j < n; ++j) {
-      entries[j] = jac.entry(k, j);
-      rowSize += entries[j].mag() * e[j];
+      entries[j] = entryOf[k][j];
+      rowSize += std::abs(c(k, j)) * e[j];  // C ~ J at the box centre: the scale of f_k
     }
     double w[kMaxDof];
     int open[kMaxDof];
@@ -141,8 +166,15 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   out.lower = DVec::Zero(n);
   out.splitScore = DVec::Constant(vars, 1.0);
   // Uncertain geometry: the geometry-aware second-order form; the interval-coefficient path below only if it fails.
-  if (secondOrder_ && model.geometryParameterCount() > 0 && box.hasGradient && encloseWithGeometry(model, box, out)) {
-    return;
+  if (secondOrder_ && model.geometryParameterCount() > 0 && model.hasGeometryUncertainty() && box.hasGradient) {
+    if (encloseWithGeometry(model, box, out)) return;
+    // Fallback to interval coefficients: no geometry hints (empty, not zero: zero would read "nothing to split").
+    out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
+    out.lower = DVec::Zero(n);
+    out.componentSmear.resize(0, 0);
+    out.geometrySmear.resize(0, 0);
+    out.geometrySensitivity.resize(0, 0);
+    out.signs = SignPattern();
   }
 
   MatrixWithGradient mg;

@@ -62,6 +62,7 @@ struct Track {
   std::shared_ptr<const GeometryPart> geometry;
   double ref = kInf;
   int since = 0;
+  enclosure::SignPattern signs;  ///< signs of J certified on the parent box (inherited by its sub-boxes)
 };
 
 class Run {
@@ -145,6 +146,7 @@ class Run {
     enclosure::BoxInput in;
     domain_.poseView(box, method_->needsGradient(), in);
     in.keepInternals = options_.monotonicity;
+    in.knownSigns = track.signs;
     enclosure::ErrorBounds bounds;
     method_->enclose(model, in, bounds);
     boxes_.fetch_add(1, std::memory_order_relaxed);
@@ -197,6 +199,7 @@ class Run {
     // Geometric uncertainty: follow the progress of the bound; a box that keeps splitting without progress may
     // bisect a geometry parameter instead (strategy (b)) when that is where the bound's width comes from.
     Track next = track;
+    next.signs = bounds.signs;
     int geometrySplit = -1;
     if (params_ > 0 && options_.geometry_splitting != GeometrySplitting::Never && !byWidth) {
       const double excess = relativeExcess(bounds, active);
@@ -487,7 +490,10 @@ class Run {
     } else {
       for (int k = 0; k < n_; ++k) {
         raiseLower(k, f[k].lower(), t, {});
-        if (!bySensitivity || !(f[k].upper() > lower_[k]->load())) continue;
+        // The worst vertex is worth a certified evaluation only if it may raise the lower bound noticeably (its
+        // value is below f[k].upper()); skipping is always sound.
+        const double current = lower_[k]->load();
+        if (!bySensitivity || !(f[k].upper() > current + 0.25 * tolerance(current))) continue;
         std::vector<double> worst;
         IVec fw;
         if (enclosure::errorAtPose(*vertexModel(sensitivity, k, 1.0, worst), pose, fw)) {
@@ -852,6 +858,8 @@ void Verifier::validate(const model::RobotModel& model, const domain::Domain& do
     require(o.time_limit_s >= 0.0 && std::isfinite(o.time_limit_s), os.str());
   }
   require(o.threads >= 0, "threads: expected >= 0 (0 = all cores), got " + std::to_string(o.threads));
+  require(o.stall_levels >= 0, "stall_levels: expected >= 0 (0 = the number of box variables, at least 2), got " +
+                                   std::to_string(o.stall_levels));
   require(o.presample_points >= 0 && o.presample_points <= 50,
           "presample_points: expected 0 to 50, got " + std::to_string(o.presample_points));
   enclosure::makeEnclosure(o.method);  // throws on an unknown name

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,6 +17,14 @@
 
 namespace pkm_accuracy {
 namespace enclosure {
+
+/// Entries of J = (J^-1)^-1 (n x n, row-major bit k * n + j) whose sign is certified over a box (and every admissible
+/// geometry). A sub-box inherits them, so a search can hand its boxes' signs down to their children.
+struct SignPattern {
+  std::uint64_t positive = 0, negative = 0;
+  bool known(int bit) const { return ((positive | negative) >> bit) & 1u; }
+  double sign(int bit) const { return (positive >> bit) & 1u ? 1.0 : ((negative >> bit) & 1u ? -1.0 : 0.0); }
+};
 
 /// A box of the search, seen as poses. Built by the domain (workspace: the identity map; trajectory: the pose
 /// map of the parameters).
@@ -27,6 +36,8 @@ struct BoxInput {
   IVec deviation;              ///< per box variable i: t_i - centre_i over the box
   bool hasGradient = false;    ///< dualPose is filled
   bool keepInternals = false;  ///< ask the method to fill ErrorBounds::internals (for errorGradient)
+  /// Signs of J already certified on a box containing this one (e.g. its parent); methods may skip recomputing them.
+  SignPattern knownSigns;
 };
 
 /// Intermediate enclosures of the preconditioned methods, kept so that derivative information (monotonicity) can
@@ -55,6 +66,7 @@ struct ErrorBounds {
   GMat geometrySensitivity;
   bool bounded() const { return upper.size() > 0 && upper.allFinite(); }
   EnclosureInternals internals;  ///< filled by the mean-value methods when BoxInput::keepInternals is set
+  SignPattern signs;             ///< signs of J certified over the box (second-order method with geometry; else 0)
 };
 
 /// Enclosure of the gradient of f_k with respect to the box variables over the box, from the internals of a

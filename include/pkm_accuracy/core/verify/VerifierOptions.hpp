@@ -73,7 +73,7 @@ struct VerifierOptions {
   /// Geometric uncertainty: see GeometrySplitting.
   GeometrySplitting geometry_splitting = GeometrySplitting::Auto;
   /// Auto: a box "keeps splitting without progress" after this many bisection levels without reducing its bound's
-  /// excess over the target by 10% (0: the number of box variables).
+  /// excess over the target by 10% (0: the number of box variables, at least 2).
   int stall_levels = 0;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
