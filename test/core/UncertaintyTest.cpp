@@ -1,0 +1,1511 @@
+// Issue #5: bounded geometric uncertainty on the anchor points (every anchor coordinate known to +-h).
+//
+// The evidence is independent of the code under test: admissible geometries are built here as plain GoughGeometry
+// values (nominal +- h per coordinate, in the documented parameter order), the worst error at a pose and a geometry
+// is computed in MPFR (200 bits) or in double with a relative margin of 1e-12, and the worst geometries are found
+// here by the signs of central finite differences of f_k with respect to the anchor coordinates (the "worst
+// vertex", refined by single-coordinate flips where f_k is not smooth), plus random vertices and interior points of
+// the uncertainty box.
+//
+//   UncertaintyModel*      geometry-parameter API of GoughPlatform (count, names, ranges, centres, restrictGeometry,
+//                          geometryDerivatives against finite differences);
+//   UncertaintyEnclosure*  soundness of the second_order enclosure and of errorAtPose over pose boxes x geometries;
+//   UncertaintyAffine*     AffineInverseAction: the affine forms (and combine()) contain N V computed in MPFR;
+//   UncertaintyVerifier*   the verifier on the reference robot (max-error brackets, SAFE / UNSAFE /
+//                          uncertainty-sensitive verdicts checked independently), strategy (b), nominal invariance;
+//   UncertaintyKnownIssues* (DISABLED_) reproducers of the problems found in the core (they fail today).
+#include <gtest/gtest.h>
+#include <mpfr.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/LU>
+
+#include "TestRobots.hpp"
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
+#include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+
+using namespace pkm_accuracy;
+using verify::UndecidedReason;
+using verify::Verdict;
+
+namespace {
+
+// ---- MPFR (200 bits) ------------------------------------------------------------------------------------------------
+struct Mp {
+  mpfr_t v;
+  Mp() { mpfr_init2(v, 200); }
+  explicit Mp(double d) {
+    mpfr_init2(v, 200);
+    mpfr_set_d(v, d, MPFR_RNDN);
+  }
+  Mp(const Mp& o) {
+    mpfr_init2(v, 200);
+    mpfr_set(v, o.v, MPFR_RNDN);
+  }
+  Mp& operator=(const Mp& o) {
+    mpfr_set(v, o.v, MPFR_RNDN);
+    return *this;
+  }
+  ~Mp() { mpfr_clear(v); }
+};
+Mp operator+(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_add(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp operator-(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_sub(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp operator*(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_mul(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp operator/(const Mp& a, const Mp& b) {
+  Mp r;
+  mpfr_div(r.v, a.v, b.v, MPFR_RNDN);
+  return r;
+}
+Mp mpSqrt(const Mp& a) {
+  Mp r;
+  mpfr_sqrt(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+Mp mpSin(const Mp& a) {
+  Mp r;
+  mpfr_sin(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+Mp mpCos(const Mp& a) {
+  Mp r;
+  mpfr_cos(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+Mp mpAbs(const Mp& a) {
+  Mp r;
+  mpfr_abs(r.v, a.v, MPFR_RNDN);
+  return r;
+}
+double toDouble(const Mp& a) { return mpfr_get_d(a.v, MPFR_RNDN); }
+bool mpLessEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) <= 0; }
+bool mpGreaterEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) >= 0; }
+
+using MpMat = std::vector<std::vector<Mp>>;
+
+/// J^-1 at pose q of a concrete geometry, by the conventions (docs/conventions.md), in MPFR.
+MpMat mpInverseJacobian(const model::GoughGeometry& g, const DVec& q) {
+  const Mp sr = mpSin(Mp(q[3])), cr = mpCos(Mp(q[3])), sp = mpSin(Mp(q[4])), cp = mpCos(Mp(q[4]));
+  const Mp sy = mpSin(Mp(q[5])), cy = mpCos(Mp(q[5]));
+  const Mp r[3][3] = {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
+                      {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
+                      {Mp(0.0) - sp, cp * sr, cp * cr}};
+  MpMat a(6, std::vector<Mp>(6, Mp(0.0)));
+  for (int i = 0; i < 6; ++i) {
+    Mp d[3], u[3];
+    for (int k = 0; k < 3; ++k) {
+      Mp rb(0.0), ru(0.0);
+      for (int l = 0; l < 3; ++l) {
+        rb = rb + r[k][l] * Mp(g.platform_anchors[i][l]);
+        ru = ru + r[k][l] * (Mp(g.platform_anchors[i][l]) - Mp(g.tool_point[l]));
+      }
+      d[k] = Mp(q[k]) + rb - Mp(g.base_anchors[i][k]);
+      u[k] = ru;
+    }
+    const Mp len = mpSqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const Mp n[3] = {d[0] / len, d[1] / len, d[2] / len};
+    a[i][0] = n[0];
+    a[i][1] = n[1];
+    a[i][2] = n[2];
+    a[i][3] = u[1] * n[2] - u[2] * n[1];
+    a[i][4] = u[2] * n[0] - u[0] * n[2];
+    a[i][5] = u[0] * n[1] - u[1] * n[0];
+  }
+  return a;
+}
+
+/// X = A^-1 B (A: n x n, B: n x m) by Gauss-Jordan elimination with partial pivoting, in MPFR.
+MpMat mpSolve(MpMat a, MpMat b) {
+  const int n = static_cast<int>(a.size());
+  const int m = static_cast<int>(b[0].size());
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i)
+      if (mpfr_cmpabs(a[i][k].v, a[p][k].v) > 0) p = i;
+    std::swap(a[k], a[p]);
+    std::swap(b[k], b[p]);
+    const Mp piv = a[k][k];
+    for (int j = 0; j < n; ++j) a[k][j] = a[k][j] / piv;
+    for (int j = 0; j < m; ++j) b[k][j] = b[k][j] / piv;
+    for (int i = 0; i < n; ++i) {
+      if (i == k) continue;
+      const Mp f = a[i][k];
+      for (int j = 0; j < n; ++j) a[i][j] = a[i][j] - f * a[k][j];
+      for (int j = 0; j < m; ++j) b[i][j] = b[i][j] - f * b[k][j];
+    }
+  }
+  return b;
+}
+
+MpMat mpIdentity(int n) {
+  MpMat id(n, std::vector<Mp>(n, Mp(0.0)));
+  for (int i = 0; i < n; ++i) id[i][i] = Mp(1.0);
+  return id;
+}
+
+/// Worst error of every component at pose q for a concrete geometry: sum_j |J_kj| e_j, J = (J^-1)^-1, in MPFR.
+std::vector<Mp> mpfrWorstError(const model::GoughGeometry& g, const DVec& q) {
+  const MpMat j = mpSolve(mpInverseJacobian(g, q), mpIdentity(6));
+  std::vector<Mp> f(6, Mp(0.0));
+  for (int k = 0; k < 6; ++k)
+    for (int l = 0; l < 6; ++l) f[k] = f[k] + mpAbs(j[k][l]) * Mp(g.sensor_error[l]);
+  return f;
+}
+
+// ---- admissible geometries, built here ------------------------------------------------------------------------------
+using Geometry = std::vector<double>;  ///< one value per geometry parameter
+
+/// The coordinates with a non-zero half-width, in the documented parameter order: base anchors leg-major x, y, z,
+/// then platform anchors, then the tool point; each with its nominal value and half-width.
+struct Coordinate {
+  int kind;  // 0 base, 1 platform, 2 tool
+  int leg, axis;
+  double nominal, half;
+};
+
+std::vector<Coordinate> uncertainCoordinates(const model::GoughGeometry& g) {
+  std::vector<Coordinate> out;
+  for (int kind = 0; kind < 2; ++kind) {
+    const auto& anchors = kind == 0 ? g.base_anchors : g.platform_anchors;
+    const auto& halves = kind == 0 ? g.base_anchor_halfwidth : g.platform_anchor_halfwidth;
+    for (int i = 0; i < 6; ++i)
+      for (int a = 0; a < 3; ++a) {
+        const double h = halves.empty() ? 0.0 : halves[i][a];
+        if (h > 0.0) out.push_back({kind, i, a, anchors[i][a], h});
+      }
+  }
+  for (int a = 0; a < 3; ++a)
+    if (g.tool_point_halfwidth[a] > 0.0) out.push_back({2, 0, a, g.tool_point[a], g.tool_point_halfwidth[a]});
+  return out;
+}
+
+/// An uncertain robot as seen by the tests: the model under test and, independently, the admissible box
+/// [nominal - h, nominal + h] of every uncertain coordinate.
+struct Uncertain {
+  model::GoughGeometry geometry;  ///< with its half-widths
+  std::vector<Coordinate> coords;
+  Geometry lo, hi, nominal;
+  explicit Uncertain(const model::GoughGeometry& g) : geometry(g), coords(uncertainCoordinates(g)) {
+    for (const Coordinate& c : coords) {
+      lo.push_back(c.nominal - c.half);
+      hi.push_back(c.nominal + c.half);
+      nominal.push_back(c.nominal);
+    }
+  }
+  int count() const { return static_cast<int>(coords.size()); }
+
+  /// The concrete geometry (no uncertainty left) with the uncertain coordinates at `values`.
+  model::GoughGeometry at(const Geometry& values) const {
+    model::GoughGeometry g = geometry;
+    for (std::size_t p = 0; p < coords.size(); ++p) {
+      const Coordinate& c = coords[p];
+      if (c.kind == 0) g.base_anchors[c.leg][c.axis] = values[p];
+      if (c.kind == 1) g.platform_anchors[c.leg][c.axis] = values[p];
+      if (c.kind == 2) g.tool_point[c.axis] = values[p];
+    }
+    g.base_anchor_halfwidth.clear();
+    g.platform_anchor_halfwidth.clear();
+    g.tool_point_halfwidth = Eigen::Vector3d::Zero();
+    return g;
+  }
+  /// Worst error of every component at pose q for geometry `values` (double; not certified).
+  DVec error(const Geometry& values, const DVec& q) const { return model::GoughPlatform(at(values)).worstErrorAt(q); }
+
+  Geometry randomVertex(std::mt19937_64& rng) const {
+    Geometry g(coords.size());
+    for (std::size_t p = 0; p < coords.size(); ++p) g[p] = (rng() & 1u) ? hi[p] : lo[p];
+    return g;
+  }
+  Geometry randomInterior(std::mt19937_64& rng) const {
+    Geometry g(coords.size());
+    for (std::size_t p = 0; p < coords.size(); ++p) g[p] = std::uniform_real_distribution<double>(lo[p], hi[p])(rng);
+    return g;
+  }
+  /// d f_k / d g_p at (q, values) by central differences (double, step 1e-7): 6 x count.
+  Eigen::MatrixXd gradient(const Geometry& values, const DVec& q) const {
+    const double step = 1e-7;
+    Eigen::MatrixXd grad(6, count());
+    for (int p = 0; p < count(); ++p) {
+      Geometry plus = values, minus = values;
+      plus[p] += step;
+      minus[p] -= step;
+      grad.col(p) = (error(plus, q) - error(minus, q)) / (2.0 * step);
+    }
+    return grad;
+  }
+  /// The vertex that the signs of a gradient row point to (direction +1: raising f_k, -1: lowering it).
+  Geometry vertexBySigns(const Eigen::MatrixXd& grad, int k, double direction) const {
+    Geometry g(coords.size());
+    for (int p = 0; p < count(); ++p) g[p] = direction * grad(k, p) >= 0.0 ? hi[p] : lo[p];
+    return g;
+  }
+  /// Local search over the vertices from `start`: flips single coordinates while that raises (direction +1) or
+  /// lowers (-1) f_k at q. Where some J_kj changes sign inside the uncertainty box f_k is not smooth and the
+  /// gradient-sign vertex can miss the extreme by several percent; the flips find it.
+  Geometry vertexSearch(const DVec& q, int k, double direction, Geometry start) const {
+    double best = direction * error(start, q)[k];
+    for (int pass = 0; pass < 4; ++pass) {
+      bool improved = false;
+      for (int p = 0; p < count(); ++p) {
+        Geometry t = start;
+        t[p] = t[p] == hi[p] ? lo[p] : hi[p];
+        const double v = direction * error(t, q)[k];
+        if (v > best) {
+          best = v;
+          start = t;
+          improved = true;
+        }
+      }
+      if (!improved) break;
+    }
+    return start;
+  }
+};
+
+model::GoughGeometry withUncertainty(double h) {
+  model::GoughGeometry g = test::ref6File().geometry;
+  g.setUniformAnchorUncertainty(h);
+  return g;
+}
+
+/// A box of `fraction` of every width of `ws`, at a random place inside it (fraction 0: a single pose).
+IVec randomSubBox(const IVec& ws, double fraction, std::mt19937_64& rng) {
+  const DVec c = test::randomPoint(ws, rng);
+  IVec box(ws.size());
+  for (int i = 0; i < ws.size(); ++i) {
+    const double half = 0.5 * fraction * (ws[i].upper() - ws[i].lower());
+    const double mid = std::min(std::max(c[i], ws[i].lower() + half), ws[i].upper() - half);
+    box[i] = Interval(mid - half, mid + half);
+  }
+  return box;
+}
+
+DVec randomVertexOf(const IVec& box, std::mt19937_64& rng) {
+  DVec q(box.size());
+  for (int i = 0; i < box.size(); ++i) q[i] = (rng() & 1u) ? box[i].upper() : box[i].lower();
+  return q;
+}
+
+IVec thinOf(const DVec& q) {
+  IVec t(q.size());
+  for (int i = 0; i < q.size(); ++i) t[i] = Interval(q[i]);
+  return t;
+}
+
+std::string where(const DVec& q) {
+  std::string s = "pose (";
+  for (int i = 0; i < q.size(); ++i) s += (i ? ", " : "") + std::to_string(q[i]);
+  return s + ")";
+}
+
+}  // namespace
+
+// =====================================================================================================================
+// 1. The geometry-parameter API
+// =====================================================================================================================
+
+TEST(UncertaintyModel, NominalRobotHasNoGeometryParametersAndTheDefaultsThrow) {
+  const model::GoughPlatform robot(withUncertainty(0.0));
+  EXPECT_FALSE(robot.hasGeometryUncertainty());
+  EXPECT_EQ(robot.geometryParameterCount(), 0);
+  EXPECT_THROW(robot.geometryParameterName(0), InvalidArgument);
+  EXPECT_THROW(robot.geometryParameterRange(0), InvalidArgument);
+  EXPECT_THROW(robot.geometryParameterCentre(0), InvalidArgument);
+  EXPECT_THROW(robot.restrictGeometry({}), InvalidArgument);
+  EXPECT_THROW(robot.restrictGeometry({Interval(0.0)}), InvalidArgument);
+  GeometryDerivatives d;
+  d.count = 5;
+  robot.geometryDerivatives(thinOf(DVec::Constant(6, 0.0) + DVec::Unit(6, 2) * 0.47), d);
+  EXPECT_EQ(d.count, 0);
+  // The centre-geometry enclosures are the plain ones.
+  const IVec pose = thinOf((DVec(6) << 0.01, -0.02, 0.47, 0.05, -0.03, 0.1).finished());
+  const IMat a = robot.inverseJacobian(pose), b = robot.inverseJacobianAtGeometryCentre(pose);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) EXPECT_TRUE(a(i, j) == b(i, j));
+}
+
+TEST(UncertaintyModel, ParametersNamesRangesAndCentresFollowTheDocumentedOrder) {
+  static const char* kAxis[3] = {"x", "y", "z"};
+  for (const double h : {0.0005, 0.001}) {
+    const model::GoughGeometry g = withUncertainty(h);
+    const model::GoughPlatform robot(g);
+    EXPECT_TRUE(robot.hasGeometryUncertainty());
+    ASSERT_EQ(robot.geometryParameterCount(), 36);
+    for (int p = 0; p < 36; ++p) {
+      const bool base = p < 18;
+      const int leg = (p % 18) / 3, axis = p % 3;
+      const std::string expected =
+          std::string(base ? "base_anchors[" : "platform_anchors[") + std::to_string(leg) + "]." + kAxis[axis];
+      EXPECT_EQ(robot.geometryParameterName(p), expected);
+      const double v = base ? g.base_anchors[leg][axis] : g.platform_anchors[leg][axis];
+      const Interval r = robot.geometryParameterRange(p);
+      // Contains the admissible range, and not much more (outward rounding only).
+      EXPECT_LE(r.lower(), v - h) << expected;
+      EXPECT_GE(r.upper(), v + h) << expected;
+      EXPECT_LE(r.upper() - r.lower(), 2.0 * h * (1 + 1e-12) + 1e-15) << expected;
+      const double c = robot.geometryParameterCentre(p);
+      EXPECT_TRUE(r.contains(c));
+      EXPECT_NEAR(c, v, 1e-15) << expected;
+    }
+    for (const int bad : {-1, 36, 1000}) {
+      EXPECT_THROW(robot.geometryParameterName(bad), InvalidArgument);
+      EXPECT_THROW(robot.geometryParameterRange(bad), InvalidArgument);
+      EXPECT_THROW(robot.geometryParameterCentre(bad), InvalidArgument);
+    }
+  }
+  // Only the coordinates with a non-zero half-width are parameters; the tool point comes last.
+  model::GoughGeometry g = withUncertainty(0.0);
+  g.platform_anchor_halfwidth.assign(6, Eigen::Vector3d::Zero());
+  g.platform_anchor_halfwidth[4] = Eigen::Vector3d(0.0, 0.002, 0.0);
+  g.tool_point = Eigen::Vector3d(0.01, -0.02, 0.03);
+  g.tool_point_halfwidth = Eigen::Vector3d(0.0003, 0.0, 0.0002);
+  const model::GoughPlatform robot(g);
+  ASSERT_EQ(robot.geometryParameterCount(), 3);
+  EXPECT_EQ(robot.geometryParameterName(0), "platform_anchors[4].y");
+  EXPECT_EQ(robot.geometryParameterName(1), "tool_point.x");
+  EXPECT_EQ(robot.geometryParameterName(2), "tool_point.z");
+  EXPECT_NEAR(robot.geometryParameterRange(2).lower(), 0.0298, 1e-15);
+  EXPECT_NEAR(robot.geometryParameterRange(2).upper(), 0.0302, 1e-15);
+}
+
+TEST(UncertaintyModel, RestrictGeometryAcceptsSubIntervalsAndPointsAndRejectsTheRest) {
+  const double h = 0.001;
+  const Uncertain u(withUncertainty(h));
+  const model::GoughPlatform robot(u.geometry);
+  const int n = robot.geometryParameterCount();
+  ASSERT_EQ(n, u.count());
+  std::vector<Interval> full(n);
+  for (int p = 0; p < n; ++p) full[p] = robot.geometryParameterRange(p);
+
+  // Sub-intervals: kept exactly, numbering kept, centres inside, still uncertain; nested restriction works.
+  std::mt19937_64 rng(101);
+  std::vector<Interval> sub(n);
+  for (int p = 0; p < n; ++p) {
+    double a = std::uniform_real_distribution<double>(full[p].lower(), full[p].upper())(rng);
+    double b = std::uniform_real_distribution<double>(full[p].lower(), full[p].upper())(rng);
+    if (a > b) std::swap(a, b);
+    sub[p] = p == 7 ? full[p] : Interval(a, b);
+  }
+  const auto restricted = robot.restrictGeometry(sub);
+  ASSERT_EQ(restricted->geometryParameterCount(), n);
+  EXPECT_TRUE(restricted->hasGeometryUncertainty());
+  for (int p = 0; p < n; ++p) {
+    EXPECT_EQ(restricted->geometryParameterName(p), robot.geometryParameterName(p));
+    EXPECT_TRUE(restricted->geometryParameterRange(p) == sub[p]) << p;
+    EXPECT_TRUE(sub[p].contains(restricted->geometryParameterCentre(p))) << p;
+  }
+  std::vector<Interval> halves = sub;
+  for (int p = 0; p < n; ++p) halves[p] = sub[p].bisect().second;
+  EXPECT_NO_THROW(restricted->restrictGeometry(halves));
+  // ... but not back to the wider original ranges.
+  try {
+    restricted->restrictGeometry(full);
+    ADD_FAILURE() << "widening a restricted range was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("geometry ranges["), std::string::npos) << e.what();
+  }
+
+  // Points: the restricted model is that exact robot (double J^-1 bit for bit, enclosures contain it, tight).
+  for (int trial = 0; trial < 3; ++trial) {
+    const Geometry values = trial == 0 ? u.randomVertex(rng) : u.randomInterior(rng);
+    std::vector<Interval> points(n);
+    for (int p = 0; p < n; ++p) points[p] = Interval(values[p]);
+    const auto pointModel = robot.restrictGeometry(points);
+    EXPECT_FALSE(pointModel->hasGeometryUncertainty());
+    ASSERT_EQ(pointModel->geometryParameterCount(), n);
+    const model::GoughPlatform exact(u.at(values));
+    const IVec ws = test::ref6File().workspaces.at("paper").initialBox();
+    for (int s = 0; s < 20; ++s) {
+      const DVec q = test::randomPoint(ws, rng);
+      const DMat a = pointModel->inverseJacobian(q), b = exact.inverseJacobian(q);
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) EXPECT_EQ(a(i, j), b(i, j)) << i << "," << j;
+      const DVec fa = pointModel->worstErrorAt(q), fb = exact.worstErrorAt(q);
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(fa[k], fb[k]);
+      const IMat enc = pointModel->inverseJacobian(thinOf(q));
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) {
+          EXPECT_TRUE(enc(i, j).contains(b(i, j)));
+          EXPECT_LT(enc(i, j).upper() - enc(i, j).lower(), 1e-13);
+        }
+    }
+  }
+
+  // Bad input: typed errors naming the field.
+  auto expectInvalid = [&](const std::vector<Interval>& ranges, const std::string& field) {
+    try {
+      robot.restrictGeometry(ranges);
+      ADD_FAILURE() << "expected InvalidArgument naming " << field;
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  expectInvalid(std::vector<Interval>(full.begin(), full.end() - 1), "geometry ranges");
+  std::vector<Interval> longer = full;
+  longer.push_back(Interval(0.0));
+  expectInvalid(longer, "geometry ranges");
+  expectInvalid({}, "geometry ranges");
+  std::vector<Interval> bad = full;
+  bad[5] = Interval(full[5].lower() - 1e-6, full[5].upper());
+  expectInvalid(bad, "geometry ranges[5] (base_anchors[1].z)");
+  bad = full;
+  bad[20] = Interval(full[20].upper() + 1e-9);  // a point outside
+  expectInvalid(bad, "geometry ranges[20] (platform_anchors[0].z)");
+  bad = full;
+  bad[33] = Interval::empty();
+  expectInvalid(bad, "geometry ranges[33] (platform_anchors[5].x)");
+}
+
+TEST(UncertaintyModel, GeometryDerivativesContainFiniteDifferences) {
+  // Uniform anchor uncertainty, and a case with an uncertain tool point (its parameters move every row).
+  model::GoughGeometry withTool = withUncertainty(0.0005);
+  withTool.tool_point = Eigen::Vector3d(0.01, -0.015, 0.04);
+  withTool.tool_point_halfwidth = Eigen::Vector3d(0.0004, 0.0003, 0.0002);
+  const IVec ws = test::ref6File().workspaces.at("paper").initialBox();
+  std::mt19937_64 rng(202);
+  int checked = 0;
+  for (const auto& g : {withUncertainty(0.0005), withUncertainty(0.001), withTool}) {
+    const Uncertain u(g);
+    const model::GoughPlatform robot(g);
+    const int n = robot.geometryParameterCount();
+    ASSERT_EQ(n, u.count());
+    const bool tool = g.tool_point_halfwidth.norm() > 0.0;
+    EXPECT_EQ(n, tool ? 39 : 36);
+    for (int trial = 0; trial < 6; ++trial) {
+      // A thin pose or a small pose box, and a point geometry model (tight enclosures) next to the full one.
+      const IVec box = randomSubBox(ws, trial % 2 == 0 ? 0.0 : 1.0 / 64.0, rng);
+      const Geometry values = trial % 3 == 0 ? u.nominal : u.randomInterior(rng);
+      std::vector<Interval> points(n);
+      for (int p = 0; p < n; ++p) points[p] = Interval(values[p]);
+      const auto pointModel = robot.restrictGeometry(points);
+      GeometryDerivatives whole, atPoint;
+      ASSERT_TRUE(robot.geometryDerivatives(box, whole));
+      const DVec q = test::randomPoint(box, rng);
+      ASSERT_TRUE(pointModel->geometryDerivatives(thinOf(q), atPoint));
+      // Structure: one entry per (parameter, row it moves): an anchor moves the row of its leg, the tool point
+      // every row.
+      for (const GeometryDerivatives* d : {&whole, &atPoint}) {
+        int expected = 0;
+        for (int p = 0; p < n; ++p) expected += u.coords[p].kind == 2 ? 6 : 1;
+        ASSERT_EQ(d->count, expected);
+        std::vector<std::vector<int>> rows(n);
+        for (int e = 0; e < d->count; ++e) {
+          const GeometryRowDerivative& r = d->entries[e];
+          ASSERT_GE(r.parameter, 0);
+          ASSERT_LT(r.parameter, n);
+          rows[r.parameter].push_back(r.row);
+        }
+        for (int p = 0; p < n; ++p) {
+          std::sort(rows[p].begin(), rows[p].end());
+          if (u.coords[p].kind == 2) {
+            EXPECT_EQ(rows[p], std::vector<int>({0, 1, 2, 3, 4, 5})) << p;
+          } else {
+            EXPECT_EQ(rows[p], std::vector<int>({u.coords[p].leg})) << p;
+          }
+        }
+      }
+      // Values: central differences of the double J^-1 of the concrete geometry (step 1e-7: rounding error
+      // ~ 1e-16 / 1e-7 ~ 1e-9 times a small factor; truncation ~ 1e-14), in the whole-box enclosure at a pose of
+      // the box, and in the point-geometry enclosure at that pose, which must be tight.
+      const double step = 1e-7, tol = 2e-7;
+      for (int p = 0; p < n; ++p) {
+        Geometry plus = values, minus = values;
+        plus[p] += step;
+        minus[p] -= step;
+        const DMat fd = (model::GoughPlatform(u.at(plus)).inverseJacobian(q) -
+                         model::GoughPlatform(u.at(minus)).inverseJacobian(q)) /
+                        (2.0 * step);
+        std::vector<bool> listed(6, false);
+        for (const GeometryDerivatives* d : {&whole, &atPoint}) {
+          for (int e = 0; e < d->count; ++e) {
+            const GeometryRowDerivative& r = d->entries[e];
+            if (r.parameter != p) continue;
+            listed[r.row] = true;
+            for (int j = 0; j < 6; ++j) {
+              const double slack = tol * (1.0 + std::abs(fd(r.row, j)));
+              EXPECT_LE(r.d[j].lower() - slack, fd(r.row, j))
+                  << robot.geometryParameterName(p) << " row " << r.row << " col " << j;
+              EXPECT_GE(r.d[j].upper() + slack, fd(r.row, j))
+                  << robot.geometryParameterName(p) << " row " << r.row << " col " << j;
+              if (d == &atPoint) {
+                EXPECT_LT(r.d[j].upper() - r.d[j].lower(), 1e-12 * (1.0 + std::abs(fd(r.row, j))));
+              }
+              ++checked;
+            }
+          }
+        }
+        // Rows not listed do not move.
+        for (int row = 0; row < 6; ++row)
+          if (!listed[row]) {
+            for (int j = 0; j < 6; ++j) EXPECT_LE(std::abs(fd(row, j)), 1e-9) << p << " row " << row;
+          }
+      }
+    }
+  }
+  EXPECT_GT(checked, 3 * 6 * 36 * 6);
+}
+
+TEST(UncertaintyModel, EnclosuresOfTheInverseJacobianCoverEveryGeometryAndTheCentre) {
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const int n = robot.geometryParameterCount();
+  Geometry centre(n);
+  for (int p = 0; p < n; ++p) centre[p] = robot.geometryParameterCentre(p);
+  const model::GoughPlatform centreRobot(u.at(centre));
+  const domain::Workspace& ws = test::ref6File().workspaces.at("paper");
+  std::mt19937_64 rng(303);
+  for (int trial = 0; trial < 20; ++trial) {
+    const IVec box = randomSubBox(ws.initialBox(), trial % 2 ? 1.0 / 32.0 : 0.0, rng);
+    const IMat all = robot.inverseJacobian(box), atCentre = robot.inverseJacobianAtGeometryCentre(box);
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    MatrixWithGradient mg;
+    robot.inverseJacobianAtGeometryCentre(in.dualPose, mg);
+    for (int s = 0; s < 5; ++s) {
+      const DVec q = test::randomPoint(box, rng);
+      const DMat c = centreRobot.inverseJacobian(q);
+      const DMat any =
+          model::GoughPlatform(u.at(s % 2 ? u.randomVertex(rng) : u.randomInterior(rng))).inverseJacobian(q);
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) {
+          EXPECT_TRUE(atCentre(i, j).contains(c(i, j))) << i << "," << j;
+          EXPECT_TRUE(mg.value(i, j).contains(c(i, j))) << i << "," << j;
+          EXPECT_TRUE(all(i, j).contains(any(i, j))) << i << "," << j;
+        }
+      // Pose derivatives at the centre geometry against central differences.
+      for (int v = 0; v < 6; ++v) {
+        const double step = 1e-7;
+        DVec qp = q, qm = q;
+        qp[v] += step;
+        qm[v] -= step;
+        if (!box[v].contains(qp[v]) || !box[v].contains(qm[v])) continue;
+        const DMat fd = (centreRobot.inverseJacobian(qp) - centreRobot.inverseJacobian(qm)) / (2.0 * step);
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) {
+            const double slack = 2e-7 * (1.0 + std::abs(fd(i, j)));
+            EXPECT_LE(mg.d[v](i, j).lower() - slack, fd(i, j));
+            EXPECT_GE(mg.d[v](i, j).upper() + slack, fd(i, j));
+          }
+      }
+    }
+  }
+}
+
+// =====================================================================================================================
+// 2. Soundness of the second_order enclosure and of errorAtPose under uncertainty
+// =====================================================================================================================
+
+TEST(UncertaintyEnclosure, SecondOrderBoundsEveryAdmissibleGeometryOnRandomBoxes) {
+  const io::RobotFile rf = test::ref6File();
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const auto method = enclosure::makeEnclosure("second_order");
+  const auto coefficients = enclosure::makeEnclosure("mean_value");  // geometry as interval coefficients only
+  model::GoughGeometry withTool = withUncertainty(0.0005);
+  withTool.tool_point = Eigen::Vector3d(0.0, 0.01, 0.05);
+  withTool.tool_point_halfwidth = Eigen::Vector3d(0.0005, 0.0005, 0.0005);
+  int run = 0;
+  for (const auto& geometry : {withUncertainty(0.0005), withUncertainty(0.001), withTool}) {
+    const Uncertain u(geometry);
+    const double h = u.coords[0].half;
+    const bool tool = u.count() > 36;
+    SCOPED_TRACE("h = " + std::to_string(h) + (tool ? " with tool point" : ""));
+    const model::GoughPlatform robot(u.geometry);
+    std::mt19937_64 rng(404 + run++);
+    int bounded = 0, checkedDouble = 0, checkedMpfr = 0, boxes = 0, signsChecked = 0, children = 0;
+    double worstGap = 0.0;  // (upper - max sampled) / upper on single poses: a looseness measure
+    for (int trial = 0; trial < (tool ? 36 : 96); ++trial) {
+      // Thin, 1/256 .. 1/16 of the paper workspace, in random places.
+      const int size = trial % 6;
+      const double fraction = size == 0 ? 0.0 : std::pow(0.5, 9 - size);
+      const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
+      enclosure::BoxInput in;
+      ws.poseView(box, true, in);
+      enclosure::ErrorBounds b, plain;
+      method->enclose(robot, in, b);
+      ++boxes;
+      ASSERT_EQ(b.upper.size(), 6);
+      ASSERT_EQ(b.lower.size(), 6);
+      if (!b.bounded()) continue;
+      ++bounded;
+      EXPECT_EQ(b.geometrySensitivity.rows(), 6);
+      EXPECT_EQ(b.geometrySensitivity.cols(), u.count());
+      EXPECT_EQ(b.geometrySmear.cols(), u.count());
+      // Tighter than interval coefficients on small boxes (the point of the geometry-aware form).
+      coefficients->enclose(robot, in, plain);
+      if (size <= 2) {
+        for (int k = 0; k < 6; ++k) EXPECT_LE(b.upper[k], plain.upper[k]) << "k=" << k << " trial " << trial;
+      }
+      // A half of the box enclosed with the signs of J certified on the whole box (what the verifier hands down).
+      IVec half = box;
+      enclosure::BoxInput childIn;
+      enclosure::ErrorBounds child;
+      if (size > 0) {
+        const int v = static_cast<int>(rng() % 6);
+        half[v] = (rng() & 1u) ? box[v].bisect().first : box[v].bisect().second;
+        ws.poseView(half, true, childIn);
+        childIn.knownSigns = b.signs;
+        method->enclose(robot, childIn, child);
+        ++children;
+      }
+      DVec maxSampled = DVec::Zero(6);
+      for (int s = 0; s < 3; ++s) {
+        const DVec q = s == 0 ? test::randomPoint(box, rng) : randomVertexOf(box, rng);
+        // Candidate geometries: per component the worst vertices (maximising and minimising, by the signs of the
+        // finite-difference gradient at the nominal geometry; on single poses improved by vertex flips), random
+        // vertices, an interior point, the nominal.
+        const Eigen::MatrixXd grad = u.gradient(u.nominal, q);
+        std::vector<Geometry> candidates;
+        for (int k = 0; k < 6; ++k)
+          for (const double dir : {1.0, -1.0}) {
+            const Geometry g = u.vertexBySigns(grad, k, dir);
+            candidates.push_back(size == 0 ? u.vertexSearch(q, k, dir, g) : g);
+          }
+        candidates.push_back(u.randomVertex(rng));
+        candidates.push_back(u.randomVertex(rng));
+        candidates.push_back(u.randomInterior(rng));
+        candidates.push_back(u.nominal);
+        bool inHalf = true;
+        for (int i = 0; i < 6; ++i) inHalf = inHalf && half[i].contains(q[i]);
+        for (std::size_t c = 0; c < candidates.size(); ++c) {
+          const DVec f = u.error(candidates[c], q);
+          for (int k = 0; k < 6; ++k) {
+            maxSampled[k] = std::max(maxSampled[k], f[k]);
+            EXPECT_LE(f[k], b.upper[k] * (1 + 1e-12))
+                << "k=" << k << " trial " << trial << " cand " << c << " " << where(q);
+            EXPECT_GE(f[k], b.lower[k] * (1 - 1e-12))
+                << "k=" << k << " trial " << trial << " cand " << c << " " << where(q);
+            if (size > 0 && inHalf && child.bounded()) {
+              EXPECT_LE(f[k], child.upper[k] * (1 + 1e-12)) << "child, k=" << k << " trial " << trial;
+              EXPECT_GE(f[k], child.lower[k] * (1 - 1e-12)) << "child, k=" << k << " trial " << trial;
+            }
+          }
+          // The signs of J certified on the box hold at this pose and geometry.
+          const DMat jac = model::GoughPlatform(u.at(candidates[c])).jacobian(q);
+          for (int bit = 0; bit < 36; ++bit) {
+            const double sign = b.signs.sign(bit);
+            if (sign == 0.0) continue;
+            EXPECT_GT(sign * jac(bit / 6, bit % 6), 0.0) << "J(" << bit / 6 << "," << bit % 6 << ") trial " << trial;
+            ++signsChecked;
+          }
+          ++checkedDouble;
+          // MPFR for the worst vertices at the first pose of every box (and everything on every 4th box).
+          if ((s == 0 && c < 12) || trial % 4 == 0) {
+            const auto exact = mpfrWorstError(u.at(candidates[c]), q);
+            for (int k = 0; k < 6; ++k) {
+              EXPECT_TRUE(mpLessEqual(exact[k], b.upper[k])) << "k=" << k << " trial " << trial;
+              EXPECT_TRUE(mpGreaterEqual(exact[k], b.lower[k])) << "k=" << k << " trial " << trial;
+            }
+            ++checkedMpfr;
+          }
+        }
+      }
+      if (size == 0) {
+        for (int k = 0; k < 6; ++k) worstGap = std::max(worstGap, (b.upper[k] - maxSampled[k]) / b.upper[k]);
+      }
+    }
+    EXPECT_GE(bounded, boxes * 9 / 10);
+    EXPECT_GT(checkedMpfr, tool ? 200 : 600);
+    EXPECT_GT(checkedDouble, tool ? 1500 : 4000);
+    EXPECT_GT(signsChecked, 10 * checkedDouble);  // most entries of J keep their sign on these boxes
+    EXPECT_GT(children, boxes / 2);
+    // Not vacuous: on a single pose the bound exceeds the worst geometry found by a second-order amount only
+    // (measured: 0.5% at h = 0.5 mm, 1.8% with the tool point too, 3-6% at h = 1 mm, where f_k itself varies by
+    // +-8% and +-15%).
+    EXPECT_LT(worstGap, tool ? 0.03 : (h == 0.0005 ? 0.015 : 0.08));
+    std::cout << "[ info     ] h=" << h << (tool ? " with tool point" : "")
+              << ": largest excess of the bound over the worst geometry found on single poses " << worstGap * 100
+              << "%\n";
+  }
+}
+
+TEST(UncertaintyEnclosure, ErrorAtPoseEnclosesEveryGeometryAndItsSensitivitiesPointToTheWorstVertex) {
+  const io::RobotFile rf = test::ref6File();
+  const IVec ws = rf.workspaces.at("paper").initialBox();
+  for (const double h : {0.0005, 0.001}) {
+    SCOPED_TRACE("h = " + std::to_string(h));
+    const Uncertain u(withUncertainty(h));
+    const model::GoughPlatform robot(u.geometry);
+    std::mt19937_64 rng(h == 0.0005 ? 505 : 506);
+    int signsChecked = 0, stableRows = 0;
+    double widest = 0.0;
+    for (int trial = 0; trial < 50; ++trial) {
+      const DVec q = trial % 2 ? test::randomPoint(ws, rng) : randomVertexOf(ws, rng);
+      IVec f;
+      GMat sensitivity;
+      ASSERT_TRUE(enclosure::errorAtPose(robot, thinOf(q), f, &sensitivity)) << where(q);
+      ASSERT_EQ(f.size(), 6);
+      ASSERT_EQ(sensitivity.rows(), 6);
+      ASSERT_EQ(sensitivity.cols(), 36);
+      const Eigen::MatrixXd grad = u.gradient(u.nominal, q);
+      const DMat jac = model::GoughPlatform(u.at(u.nominal)).jacobian(q);
+      for (int k = 0; k < 6; ++k) {
+        const Geometry up = u.vertexSearch(q, k, 1.0, u.vertexBySigns(grad, k, 1.0));
+        const Geometry down = u.vertexSearch(q, k, -1.0, u.vertexBySigns(grad, k, -1.0));
+        const auto exactUp = mpfrWorstError(u.at(up), q), exactDown = mpfrWorstError(u.at(down), q);
+        EXPECT_TRUE(mpLessEqual(exactUp[k], f[k].upper())) << "k=" << k << " " << where(q);
+        EXPECT_TRUE(mpGreaterEqual(exactDown[k], f[k].lower())) << "k=" << k << " " << where(q);
+        for (int s = 0; s < 4; ++s) {
+          const DVec v = u.error(s % 2 ? u.randomVertex(rng) : u.randomInterior(rng), q);
+          EXPECT_LE(v[k], f[k].upper() * (1 + 1e-12));
+          EXPECT_GE(v[k], f[k].lower() * (1 - 1e-12));
+        }
+        // Second-order tight: the width exceeds the spread of f_k over the geometries by O(h^2) (measured: up to
+        // 1.35x at h = 0.5 mm, 1.75x at h = 1 mm; the remainder is symmetric while f_k is convex in g).
+        const double spread = toDouble(exactUp[k]) - toDouble(exactDown[k]);
+        widest = std::max(widest, (f[k].upper() - f[k].lower()) / spread);
+        EXPECT_LE(f[k].upper() - f[k].lower(), (1.0 + 1250.0 * h) * spread) << "k=" << k << " " << where(q);
+        // Sensitivities, where every J_kj keeps its sign over the uncertainty box (f_k smooth in g there): they say
+        // which end of each parameter raises f_k, and their vertex is as bad as the worst one found.
+        bool stable = true;
+        for (int j = 0; j < 6; ++j) {
+          const double jkj = jac(k, j);
+          for (const Geometry* g : {&up, &down}) {
+            const DMat other = model::GoughPlatform(u.at(*g)).jacobian(q);
+            stable = stable && other(k, j) * jkj > 0.0 && std::abs(jkj) > 0.1 * jac.row(k).cwiseAbs().maxCoeff();
+          }
+        }
+        if (!stable) continue;
+        ++stableRows;
+        const double scale = grad.row(k).cwiseAbs().maxCoeff();
+        for (int p = 0; p < 36; ++p) {
+          if (std::abs(grad(k, p)) < 0.1 * scale) continue;
+          EXPECT_GT(sensitivity(k, p) * grad(k, p), 0.0)
+              << robot.geometryParameterName(p) << " k=" << k << " " << where(q);
+          ++signsChecked;
+        }
+        Geometry bySensitivity(36);
+        for (int p = 0; p < 36; ++p) bySensitivity[p] = sensitivity(k, p) >= 0.0 ? u.hi[p] : u.lo[p];
+        EXPECT_GE(u.error(bySensitivity, q)[k], toDouble(exactUp[k]) * (1 - 1e-3)) << "k=" << k << " " << where(q);
+      }
+    }
+    EXPECT_GT(stableRows, 50);
+    EXPECT_GT(signsChecked, 500);
+    std::cout << "[ info     ] h=" << h << ": errorAtPose width / spread of f_k over the geometries <= " << widest
+              << "\n";
+  }
+}
+
+// =====================================================================================================================
+// 3. AffineInverseAction directly
+// =====================================================================================================================
+
+TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
+  const io::RobotFile rf = test::ref6File();
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  model::GoughGeometry withTool = withUncertainty(0.0005);
+  withTool.tool_point = Eigen::Vector3d(0.0, 0.01, 0.05);
+  withTool.tool_point_halfwidth = Eigen::Vector3d(0.0005, 0.0005, 0.0005);
+  std::mt19937_64 rng(606);
+  int prepared = 0, entriesChecked = 0, combinations = 0;
+  for (const auto& g : {withUncertainty(0.0005), withUncertainty(0.001), withTool}) {
+    const Uncertain u(g);
+    const model::GoughPlatform robot(g);
+    const int params = robot.geometryParameterCount();
+    ASSERT_EQ(params, u.count());
+    std::vector<double> gc(params), gh(params);
+    for (int p = 0; p < params; ++p) {
+      gc[p] = robot.geometryParameterCentre(p);
+      gh[p] = (robot.geometryParameterRange(p) - Interval(gc[p])).mag();
+    }
+    for (int trial = 0; trial < 24; ++trial) {
+      const double fraction = trial % 4 == 0 ? 0.0 : std::pow(0.5, 3 + trial % 4 * 2);
+      const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
+      enclosure::BoxInput in;
+      ws.poseView(box, true, in);
+      enclosure::AffineInverseAction act;
+      if (!act.prepare(robot, in)) continue;
+      ++prepared;
+      EXPECT_EQ(act.parameters(), params);
+      // V: n x m, random entries, some thin and some with a small radius.
+      const int m = 1 + static_cast<int>(rng() % 6);
+      IMat v(6, m);
+      std::uniform_real_distribution<double> unit(-1.0, 1.0);
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < m; ++j) {
+          const double c = unit(rng), r = (rng() % 3 == 0) ? 0.0 : 1e-4 * std::abs(unit(rng));
+          v(i, j) = Interval(c - r, c + r);
+        }
+      enclosure::AffineInverseAction::AffineMatrix a;
+      ASSERT_TRUE(act.apply(v, a)) << "trial " << trial;
+      ASSERT_EQ(a.rows, 6);
+      ASSERT_EQ(a.cols, m);
+      EXPECT_EQ(a.params, params);
+      const DMat& c = act.preconditioner();
+      for (int s = 0; s < 4; ++s) {
+        const DVec t = s % 2 ? randomVertexOf(box, rng) : test::randomPoint(box, rng);
+        const Geometry gv = s < 2 ? u.randomVertex(rng) : u.randomInterior(rng);
+        // A point of V (vertices and interior points).
+        MpMat vp(6, std::vector<Mp>(m, Mp(0.0)));
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < m; ++j) {
+            const double x = s == 0   ? v(i, j).lower()
+                             : s == 1 ? v(i, j).upper()
+                                      : std::uniform_real_distribution<double>(v(i, j).lower(), v(i, j).upper())(rng);
+            vp[i][j] = Mp(x);
+          }
+        // N V = (C J^-1(t, g))^-1 V in MPFR.
+        const MpMat jinv = mpInverseJacobian(u.at(gv), t);
+        MpMat cj(6, std::vector<Mp>(6, Mp(0.0)));
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j)
+            for (int l = 0; l < 6; ++l) cj[i][j] = cj[i][j] + Mp(c(i, l)) * jinv[l][j];
+        const MpMat nv = mpSolve(cj, vp);
+        // The affine variables of this (t, g): tau_i = (t_i - t0_i) / |dev_i|max, gamma_p = (g_p - g0_p) / h_p.
+        std::vector<Mp> tau(6, Mp(0.0)), gamma(params, Mp(0.0));
+        for (int i = 0; i < 6; ++i) {
+          const double dm = in.deviation[i].mag();
+          if (dm > 0.0) tau[i] = (Mp(t[i]) - Mp(in.centrePose[i].mid())) / Mp(dm);
+        }
+        for (int p = 0; p < params; ++p) gamma[p] = (Mp(gv[p]) - Mp(gc[p])) / Mp(gh[p]);
+        auto form = [&](double centre, const double* pose, const double* geometry) {
+          Mp x(centre);
+          for (int i = 0; i < a.vars; ++i) x = x + Mp(pose[i]) * tau[i];
+          for (int p = 0; p < params; ++p) x = x + Mp(geometry[p]) * gamma[p];
+          return x;
+        };
+        for (int k = 0; k < 6; ++k)
+          for (int j = 0; j < m; ++j) {
+            const Interval e = a.entry(k, j);
+            EXPECT_TRUE(mpGreaterEqual(nv[k][j], e.lower()) && mpLessEqual(nv[k][j], e.upper()))
+                << "entry " << k << "," << j << " trial " << trial << ": " << toDouble(nv[k][j]) << " not in " << e;
+            // The affine form itself (the correlations it claims): |NV - form(t, g)| <= radius.
+            double pose[kMaxDof], geometry[kMaxGeometryParameters];
+            for (int i = 0; i < a.vars; ++i) pose[i] = a.pose[i](k, j);
+            for (int p = 0; p < params; ++p) geometry[p] = a.geometry[j](k, p);
+            const Mp dev = mpAbs(nv[k][j] - form(a.centre(k, j), pose, geometry));
+            EXPECT_TRUE(mpLessEqual(dev, a.radius(k, j)))
+                << "entry " << k << "," << j << " trial " << trial << ": |NV - form| = " << toDouble(dev)
+                << " > radius " << a.radius(k, j);
+            ++entriesChecked;
+          }
+        // combine(): a random exact weight per column (some zero).
+        for (int k = 0; k < 6; ++k) {
+          double w[kMaxDof];
+          for (int j = 0; j < m; ++j) w[j] = rng() % 4 == 0 ? 0.0 : std::ldexp(unit(rng), -3);
+          enclosure::AffineInverseAction::Combination comb;
+          enclosure::AffineInverseAction::combine(a, k, w, comb);
+          Mp exact(0.0);
+          for (int j = 0; j < m; ++j) exact = exact + Mp(w[j]) * nv[k][j];
+          EXPECT_TRUE(mpGreaterEqual(exact, comb.lower()) && mpLessEqual(exact, comb.upper()))
+              << "row " << k << " trial " << trial << ": " << toDouble(exact) << " not in [" << comb.lower() << ", "
+              << comb.upper() << "]";
+          const Mp dev = mpAbs(exact - form(comb.centre, comb.pose, comb.geometry));
+          EXPECT_TRUE(mpLessEqual(dev, comb.radius)) << "row " << k << " trial " << trial;
+          // add(): the sum of two combinations of the same row encloses the sum.
+          double w2[kMaxDof];
+          for (int j = 0; j < m; ++j) w2[j] = std::ldexp(unit(rng), -2);
+          enclosure::AffineInverseAction::Combination other;
+          enclosure::AffineInverseAction::combine(a, k, w2, other);
+          Mp exact2(0.0);
+          for (int j = 0; j < m; ++j) exact2 = exact2 + Mp(w2[j]) * nv[k][j];
+          comb.add(other);
+          const Mp sum = exact + exact2;
+          EXPECT_TRUE(mpGreaterEqual(sum, comb.lower()) && mpLessEqual(sum, comb.upper())) << "row " << k;
+          ++combinations;
+        }
+      }
+      // Not vacuous: the geometry terms are there, and on a single pose the remainder is second order, small
+      // next to the first-order terms (measured: radius / sum of |coefficients| <= 0.22 at h = 0.5 mm, 0.58 at 1 mm).
+      for (int k = 0; k < 6; ++k)
+        for (int j = 0; j < m; ++j) {
+          double first = 0.0;
+          for (int p = 0; p < params; ++p) first += std::abs(a.geometry[j](k, p));
+          EXPECT_GT(first, 0.0);
+          if (fraction == 0.0 && u.geometry.tool_point_halfwidth.norm() == 0.0) {
+            EXPECT_LT(a.radius(k, j), (u.coords[0].half <= 0.0005 ? 0.35 : 0.9) * first) << k << "," << j;
+          }
+        }
+    }
+  }
+  EXPECT_GE(prepared, 60);
+  EXPECT_GT(entriesChecked, 1000);
+  EXPECT_GT(combinations, 500);
+}
+
+// =====================================================================================================================
+// 4. Issue #5 evidence on the reference robot
+// =====================================================================================================================
+
+namespace {
+
+/// Independent sampling of the error over poses AND geometries of an uncertain robot on a pose box.
+struct Sampled {
+  DVec max = DVec::Zero(6);  ///< max over sampled poses and geometries
+  std::vector<DVec> argmax = std::vector<DVec>(6);
+  /// max over sampled poses of (min over the sampled geometries at that pose): where some pose seems to exceed for
+  /// every geometry (an over-estimate of the true value at that pose).
+  DVec maxOfMin = DVec::Zero(6);
+  std::vector<DVec> argmaxOfMin = std::vector<DVec>(6);
+};
+
+/// The geometries sampled at one pose: the worst vertices of every component by gradient signs at the nominal
+/// geometry (refined by vertex flips if asked), random vertices and interior points, the nominal.
+std::vector<Geometry> sampleGeometries(const Uncertain& u, const DVec& q, std::mt19937_64& rng, bool refine) {
+  std::vector<Geometry> out;
+  const Eigen::MatrixXd grad = u.gradient(u.nominal, q);
+  for (int k = 0; k < 6; ++k)
+    for (const double dir : {1.0, -1.0}) {
+      const Geometry g = u.vertexBySigns(grad, k, dir);
+      out.push_back(g);
+      if (refine) out.push_back(u.vertexSearch(q, k, dir, g));
+    }
+  for (int s = 0; s < 3; ++s) out.push_back(u.randomVertex(rng));
+  for (int s = 0; s < 2; ++s) out.push_back(u.randomInterior(rng));
+  out.push_back(u.nominal);
+  return out;
+}
+
+Sampled sample(const Uncertain& u, const IVec& box, int randomPoses, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<DVec> poses;
+  for (int corner = 0; corner < 64; ++corner) {
+    DVec q(6);
+    for (int i = 0; i < 6; ++i) q[i] = (corner >> i) & 1 ? box[i].upper() : box[i].lower();
+    poses.push_back(q);
+  }
+  for (int s = 0; s < randomPoses; ++s) poses.push_back(test::randomPoint(box, rng));
+  // Screen the poses with the nominal geometry; the best ones per component get the refined geometry search.
+  std::vector<DVec> nominal;
+  for (const DVec& q : poses) nominal.push_back(u.error(u.nominal, q));
+  Sampled out;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    bool top = false;
+    for (int k = 0; k < 6; ++k) {
+      int better = 0;
+      for (std::size_t j = 0; j < poses.size() && better < 4; ++j) better += nominal[j][k] > nominal[i][k];
+      top = top || better < 4;
+    }
+    const std::vector<Geometry> geometries = sampleGeometries(u, poses[i], rng, top);
+    DVec lowest = DVec::Constant(6, std::numeric_limits<double>::infinity());
+    for (const Geometry& g : geometries) {
+      const DVec f = u.error(g, poses[i]);
+      for (int k = 0; k < 6; ++k) {
+        if (f[k] > out.max[k]) {
+          out.max[k] = f[k];
+          out.argmax[k] = poses[i];
+        }
+        lowest[k] = std::min(lowest[k], f[k]);
+      }
+    }
+    for (int k = 0; k < 6; ++k)
+      if (lowest[k] > out.maxOfMin[k]) {
+        out.maxOfMin[k] = lowest[k];
+        out.argmaxOfMin[k] = poses[i];
+      }
+  }
+  return out;
+}
+
+/// Smallest f_k over the geometries sampled at pose q (worst vertices for the minimum included).
+double sampledMinimum(const Uncertain& u, const DVec& q, int k, std::mt19937_64& rng) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Geometry& g : sampleGeometries(u, q, rng, true)) lowest = std::min(lowest, u.error(g, q)[k]);
+  for (int s = 0; s < 20; ++s)
+    lowest = std::min(lowest, u.error(s % 2 ? u.randomVertex(rng) : u.randomInterior(rng), q)[k]);
+  return lowest;
+}
+
+Geometry toGeometry(const std::vector<double>& v) { return Geometry(v.begin(), v.end()); }
+
+bool withinRanges(const model::RobotModel& robot, const std::vector<double>& g) {
+  if (static_cast<int>(g.size()) != robot.geometryParameterCount()) return false;
+  for (int p = 0; p < robot.geometryParameterCount(); ++p)
+    if (!robot.geometryParameterRange(p).contains(g[p])) return false;
+  return true;
+}
+
+/// The sub-box of `paper` with `fraction` of every width at its (+x, +y, +z, +angles) vertex. The error maxima of
+/// `paper` are at its vertices (sampled: each component's maximum over the 1/16 corner box is 74-91% of its maximum
+/// over `paper`, h = 0.5 and 1 mm), and the maxima over the corner box are at vertices of the box too, where the
+/// search must close its bounds: a small problem with the structure of the whole one.
+IVec cornerBox(double fraction) {
+  const IVec paper = test::ref6File().workspaces.at("paper").initialBox();
+  IVec box(6);
+  for (int i = 0; i < 6; ++i) {
+    const double w = (paper[i].upper() - paper[i].lower()) * fraction;
+    box[i] = Interval(paper[i].upper() - w, paper[i].upper());
+  }
+  return box;
+}
+
+/// Checks a max-error result against independent evaluations: converged brackets of the sampled maxima, and the
+/// lower bound attained at (argmax, argmax geometry) in double and MPFR, or, when no geometry is given (the bound
+/// holds for every geometry), at every sampled geometry including the minimising vertices.
+void checkMaxError(const verify::VerifierResult& r, const Uncertain& u, const model::RobotModel& robot, const IVec& box,
+                   const Sampled& s, double alpha, std::mt19937_64& rng) {
+  EXPECT_TRUE(r.converged) << r.message;
+  ASSERT_EQ(r.max_lower.size(), 6);
+  ASSERT_EQ(r.max_upper.size(), 6);
+  ASSERT_EQ(r.max_argmax.size(), 6u);
+  ASSERT_EQ(r.max_argmax_geometry.size(), 6u);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_GE(r.max_upper[k], s.max[k]) << k;
+    EXPECT_LE(r.max_lower[k], r.max_upper[k]) << k;
+    EXPECT_LE(r.max_upper[k] - r.max_lower[k], alpha * r.max_lower[k] * (1 + 1e-9)) << k;
+    ASSERT_EQ(r.max_argmax[k].size(), 6) << k;
+    for (int i = 0; i < 6; ++i) EXPECT_TRUE(box[i].contains(r.max_argmax[k][i])) << k;
+    const std::vector<double>& g = r.max_argmax_geometry[k];
+    if (!g.empty()) {
+      ASSERT_TRUE(withinRanges(robot, g)) << k;
+      EXPECT_GE(u.error(toGeometry(g), r.max_argmax[k])[k], r.max_lower[k] * (1 - 1e-9)) << k;
+      EXPECT_TRUE(mpGreaterEqual(mpfrWorstError(u.at(toGeometry(g)), r.max_argmax[k])[k], r.max_lower[k])) << k;
+    } else {
+      EXPECT_GE(sampledMinimum(u, r.max_argmax[k], k, rng), r.max_lower[k] * (1 - 1e-9)) << k;
+    }
+  }
+}
+
+/// Checks an uncertainty-sensitive pose independently: inside the box, its failing geometry admissible and above
+/// the threshold (double and MPFR, and at least the certified failing_lower), its passing geometry (if any) below.
+void checkSensitivePose(const verify::SensitivePose& sp, const Uncertain& u, const model::RobotModel& robot,
+                        const IVec& box, const DVec& thresholds) {
+  const int k = sp.component;
+  ASSERT_GE(k, 0);
+  ASSERT_LT(k, 6);
+  ASSERT_EQ(sp.point.size(), 6);
+  ASSERT_EQ(sp.pose.size(), 6);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_TRUE(box[i].contains(sp.point[i]));
+    EXPECT_TRUE(sp.pose[i].contains(sp.point[i]));
+    EXPECT_TRUE(sp.region[i].contains(sp.point[i]));
+  }
+  ASSERT_TRUE(withinRanges(robot, sp.failing_geometry));
+  EXPECT_GT(sp.failing_lower, thresholds[k]);
+  EXPECT_GT(u.error(toGeometry(sp.failing_geometry), sp.point)[k], thresholds[k]) << where(sp.point);
+  EXPECT_TRUE(mpGreaterEqual(mpfrWorstError(u.at(toGeometry(sp.failing_geometry)), sp.point)[k], sp.failing_lower));
+  if (!sp.passing_geometry.empty()) {
+    ASSERT_TRUE(withinRanges(robot, sp.passing_geometry));
+    const DVec fp = u.error(toGeometry(sp.passing_geometry), sp.point);
+    EXPECT_LE(fp[k], thresholds[k]) << where(sp.point);
+    EXPECT_TRUE(mpLessEqual(mpfrWorstError(u.at(toGeometry(sp.passing_geometry)), sp.point)[k], sp.passing_upper));
+    if (sp.passes_all) {
+      for (int j = 0; j < 6; ++j) EXPECT_LE(fp[j], thresholds[j]) << j;
+    }
+  }
+}
+
+/// Checks an UNSAFE witness independently: inside the box, and above the threshold for every sampled geometry
+/// (the minimising vertices included); every component's certified lower bound at most its sampled minimum.
+void checkWitness(const verify::VerifierResult& r, const Uncertain& u, const IVec& box, const DVec& thresholds,
+                  std::mt19937_64& rng) {
+  ASSERT_EQ(r.verdict, Verdict::Unsafe) << r.message;
+  const int k = r.witness_component;
+  ASSERT_GE(k, 0);
+  ASSERT_EQ(r.witness.size(), 6);
+  for (int i = 0; i < 6; ++i) EXPECT_TRUE(box[i].contains(r.witness[i]));
+  EXPECT_GT(r.witness_lower_bound, thresholds[k]);
+  EXPECT_GT(sampledMinimum(u, r.witness, k, rng), thresholds[k]) << where(r.witness);
+  ASSERT_EQ(r.witness_error_lower.size(), 6);
+  for (int j = 0; j < 6; ++j) {
+    EXPECT_LE(r.witness_error_lower[j], sampledMinimum(u, r.witness, j, rng) * (1 + 1e-9)) << j;
+  }
+}
+
+}  // namespace
+
+TEST(UncertaintyVerifier, Issue5MaxErrorAndVerdictsOnTheReferenceRobot) {
+  const io::RobotFile rf = test::ref6File();
+  const IVec box = cornerBox(1.0 / 16.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  int cases = 0;
+  for (const double h : rf.anchor_uncertainty_cases) {
+    if (!(h > 0.0)) continue;
+    ++cases;
+    SCOPED_TRACE("h = " + std::to_string(h));
+    const Uncertain u(withUncertainty(h));
+    const model::GoughPlatform robot(u.geometry);
+    const Sampled s = sample(u, box, 600, 707);
+    std::mt19937_64 rng(708);
+
+    // ---- max-error mode: brackets, and the lower bound attained at (argmax, argmax geometry) ----
+    // alpha: 2% at h = 0.5 mm. At h = 1 mm the bound of a single pose exceeds the worst geometry by up to ~6%
+    // (second-order remainder, see SecondOrderBoundsEveryAdmissibleGeometryOnRandomBoxes) and 2% (or 5%) does not
+    // converge within 15 s even with strategy (b) (reported), so 10% there.
+    verify::VerifierOptions o;
+    o.mode = verify::Mode::MaxError;
+    o.alpha = h <= 0.0005 ? 0.02 : 0.1;
+    o.time_limit_s = 30.0;  // a safety net: both converge in < 0.2 s
+    checkMaxError(verify::Verifier::run(robot, ws, o), u, robot, box, s, o.alpha, rng);
+
+    // ---- verify mode: 10% above the sampled maxima (over poses and geometries) is SAFE ----
+    verify::VerifierOptions v;
+    v.thresholds = s.max * 1.10;
+    const auto safe = verify::Verifier::run(robot, ws, v);
+    EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
+    EXPECT_EQ(safe.undecided_box_count, 0u);
+    EXPECT_EQ(safe.sensitive_count, 0u);
+    EXPECT_NEAR(safe.stats.safe_fraction, 1.0, 1e-9);
+
+    // ---- 5% below: UNSAFE (witness for every geometry) or UNDECIDED (uncertainty_sensitive) ----
+    v.thresholds = s.max * 0.95;
+    const auto below = verify::Verifier::run(robot, ws, v);
+    ASSERT_NE(below.verdict, Verdict::Safe) << below.message;
+    if (below.verdict == Verdict::Unsafe) {
+      checkWitness(below, u, box, v.thresholds, rng);
+    } else {
+      ASSERT_EQ(below.reason, UndecidedReason::UncertaintySensitive) << below.message;
+      EXPECT_EQ(toString(below.reason), "uncertainty_sensitive");
+      ASSERT_GE(below.sensitive_count, 1u);
+      ASSERT_FALSE(below.sensitive.empty());
+      checkSensitivePose(below.sensitive.front(), u, robot, box, v.thresholds);
+    }
+    // Which one our own sampling says. UNSAFE needs a pose where f_k exceeds for every geometry, certified by
+    // errorAtPose whose lower end is below the true minimum over the geometries by a second-order amount (measured
+    // <= 1.5% at h = 0.5 mm, <= 8% at 1 mm). So: a box corner (the pre-sampling grid holds every corner) exceeding
+    // for every sampled geometry by more than 100 h (5%, 10%) makes UNSAFE certain; no sampled pose (all corners,
+    // with vertex searches for the extremes, and 600 random poses) within 2% of exceeding for every sampled geometry
+    // makes it impossible in practice, so the answer must be uncertainty_sensitive.
+    bool cornerWitness = false, noWitness = true;
+    for (int k = 0; k < 6; ++k) {
+      const DVec& q = s.argmaxOfMin[k];
+      bool corner = true;
+      for (int i = 0; i < 6; ++i) corner = corner && (q[i] == box[i].lower() || q[i] == box[i].upper());
+      if (corner && s.maxOfMin[k] > (1.0 + 100.0 * h) * v.thresholds[k]) cornerWitness = true;
+      if (s.maxOfMin[k] > 0.98 * v.thresholds[k]) noWitness = false;
+    }
+    std::cout << "[ info     ] h=" << h << ": 5% below -> " << toString(below.verdict) << " (" << toString(below.reason)
+              << "); sampled (max over poses of min over geometries) / (max over both):";
+    for (int k = 0; k < 6; ++k) std::cout << " " << s.maxOfMin[k] / s.max[k];
+    std::cout << "\n";
+    EXPECT_TRUE(cornerWitness || noWitness) << "the sampling does not make the expected answer clear";
+    if (cornerWitness) {
+      EXPECT_EQ(below.verdict, Verdict::Unsafe) << below.message;
+    }
+    if (noWitness) {
+      EXPECT_EQ(below.reason, UndecidedReason::UncertaintySensitive) << below.message;
+    }
+
+    // ---- clearly lower thresholds (30% below): UNSAFE with a witness checked for every sampled geometry ----
+    v.thresholds = s.max * 0.70;
+    checkWitness(verify::Verifier::run(robot, ws, v), u, box, v.thresholds, rng);
+
+    // ---- the same without stopping at the first evidence (a box budget): every recorded sensitive pose checked,
+    // whole boxes certified unsafe for every geometry, volume fractions adding up ----
+    v.stop_at_first_witness = false;
+    v.max_boxes = 2000;
+    const auto all = verify::Verifier::run(robot, ws, v);
+    checkWitness(all, u, box, v.thresholds, rng);
+    EXPECT_GT(all.stats.unsafe_fraction, 0.0);
+    EXPECT_NEAR(all.stats.safe_fraction + all.stats.unsafe_fraction + all.stats.undecided_fraction, 1.0, 1e-9);
+    v.thresholds = s.max * 0.95;
+    const auto sensitive = verify::Verifier::run(robot, ws, v);
+    EXPECT_EQ(sensitive.reason, UndecidedReason::UncertaintySensitive) << sensitive.message;
+    EXPECT_GE(sensitive.sensitive_count, sensitive.sensitive.size());
+    EXPECT_GT(sensitive.sensitive.size(), 1u);
+    for (std::size_t i = 0; i < sensitive.sensitive.size() && i < 25; ++i) {
+      checkSensitivePose(sensitive.sensitive[i], u, robot, box, v.thresholds);
+    }
+    EXPECT_NEAR(sensitive.stats.safe_fraction + sensitive.stats.unsafe_fraction + sensitive.stats.undecided_fraction,
+                1.0, 1e-9);
+  }
+  EXPECT_EQ(cases, 2);
+}
+
+// =====================================================================================================================
+// 5. Strategy (b): bisecting the geometry
+// =====================================================================================================================
+
+TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
+  // h = 1 mm on the 1/32 corner box: at +6% of the sampled maxima strategy (a) alone needs ~1200 boxes and the
+  // stalled boxes (stall_levels = 1) switch to bisecting the geometry.
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const IVec box = cornerBox(1.0 / 32.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  const Sampled s = sample(u, box, 100, 808);
+  for (const double factor : {1.06, 0.99}) {
+    SCOPED_TRACE("thresholds x " + std::to_string(factor));
+    verify::VerifierOptions o;
+    o.thresholds = s.max * factor;
+    o.threads = 1;
+    o.time_limit_s = 20.0;  // a safety net (each run takes < 0.2 s)
+    o.geometry_splitting = verify::GeometrySplitting::Never;
+    const auto never = verify::Verifier::run(robot, ws, o);
+    EXPECT_EQ(never.stats.geometry_switches, 0u);
+    EXPECT_EQ(never.stats.geometry_splits, 0u);
+    o.geometry_splitting = verify::GeometrySplitting::Auto;
+    o.stall_levels = 1;
+    const auto autoRun = verify::Verifier::run(robot, ws, o);
+    EXPECT_EQ(autoRun.verdict, never.verdict) << autoRun.message << " / " << never.message;
+    EXPECT_EQ(autoRun.reason, never.reason);
+    EXPECT_GE(autoRun.stats.geometry_splits, autoRun.stats.geometry_switches);
+    if (factor > 1.0) {
+      EXPECT_EQ(never.verdict, Verdict::Safe) << never.message;
+      EXPECT_GT(autoRun.stats.geometry_switches, 0u);
+      EXPECT_EQ(autoRun.undecided_box_count, 0u);
+      EXPECT_NEAR(autoRun.stats.safe_fraction, 1.0, 1e-9);  // the geometry halves' volumes add up
+    } else {
+      // The sampled maximum is a real error value (a pose and an admissible geometry) above the thresholds: no
+      // mode may prove SAFE, and no pose exceeds for every sampled geometry (max-of-min is ~85% of the max).
+      EXPECT_EQ(never.verdict, Verdict::Undecided) << never.message;
+      EXPECT_EQ(never.reason, UndecidedReason::UncertaintySensitive) << never.message;
+    }
+    o.geometry_splitting = verify::GeometrySplitting::Always;
+    o.stall_levels = 0;
+    const auto always = verify::Verifier::run(robot, ws, o);
+    EXPECT_EQ(always.verdict, never.verdict) << always.message;
+    EXPECT_EQ(always.reason, never.reason);
+    // Threads: same verdict.
+    o.geometry_splitting = verify::GeometrySplitting::Auto;
+    o.stall_levels = 1;
+    o.threads = 2;
+    const auto two = verify::Verifier::run(robot, ws, o);
+    EXPECT_EQ(two.verdict, autoRun.verdict) << two.message;
+    EXPECT_EQ(two.reason, autoRun.reason);
+    EXPECT_EQ(two.stats.threads, 2);
+  }
+
+  // A tiny box budget: the undecided records searched on a geometry sub-box carry sub-intervals of the ranges.
+  verify::VerifierOptions o;
+  o.thresholds = s.max * 1.06;
+  o.geometry_splitting = verify::GeometrySplitting::Auto;
+  o.stall_levels = 1;
+  o.threads = 1;
+  o.max_boxes = 400;
+  o.presample_points = 0;
+  const auto partial = verify::Verifier::run(robot, ws, o);
+  EXPECT_EQ(partial.verdict, Verdict::Undecided);
+  EXPECT_EQ(partial.reason, UndecidedReason::BoxBudget);
+  EXPECT_NEAR(partial.stats.safe_fraction + partial.stats.undecided_fraction + partial.stats.outside_fraction, 1.0,
+              1e-9);
+  EXPECT_GT(partial.stats.geometry_switches, 0u);
+  int withGeometry = 0;
+  for (const verify::BoxRecord& b : partial.undecided_boxes) {
+    if (b.geometry.empty()) continue;
+    ++withGeometry;
+    ASSERT_EQ(static_cast<int>(b.geometry.size()), robot.geometryParameterCount());
+    bool narrower = false;
+    for (int p = 0; p < robot.geometryParameterCount(); ++p) {
+      const Interval full = robot.geometryParameterRange(p);
+      EXPECT_TRUE(b.geometry[p].isSubsetOf(full)) << p;
+      EXPECT_FALSE(b.geometry[p].isEmpty()) << p;
+      narrower = narrower || b.geometry[p].width() < full.width();
+    }
+    EXPECT_TRUE(narrower);
+  }
+  EXPECT_GT(withGeometry, 0);
+}
+
+TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
+  // h = 1 mm on the 1/128 corner box at +4% of the sampled maxima: the single-pose bound exceeds the worst geometry
+  // by more than 4% at the corner (second-order remainder), so strategy (a) alone cannot conclude; bisecting the
+  // geometry does.
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const IVec box = cornerBox(1.0 / 128.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  const Sampled s = sample(u, box, 100, 809);
+  std::mt19937_64 rng(810);
+  verify::VerifierOptions o;
+  o.thresholds = s.max * 1.04;
+  o.threads = 1;
+  o.geometry_splitting = verify::GeometrySplitting::Never;
+  o.max_boxes = 3000;
+  const auto never = verify::Verifier::run(robot, ws, o);
+  EXPECT_EQ(never.verdict, Verdict::Undecided) << never.message;
+  EXPECT_EQ(never.reason, UndecidedReason::BoxBudget);
+  o.max_boxes = 20000;  // a safety net: measured 43 boxes (Always) and ~3000 (Auto, stall_levels = 1)
+  for (const auto mode : {verify::GeometrySplitting::Always, verify::GeometrySplitting::Auto}) {
+    o.geometry_splitting = mode;
+    o.stall_levels = mode == verify::GeometrySplitting::Auto ? 1 : 0;
+    for (const int threads : {1, 2}) {
+      o.threads = threads;
+      const auto r = verify::Verifier::run(robot, ws, o);
+      EXPECT_EQ(r.verdict, Verdict::Safe) << r.message;
+      EXPECT_GT(r.stats.geometry_splits, 0u);
+      EXPECT_NEAR(r.stats.safe_fraction, 1.0, 1e-9);
+    }
+  }
+  // Max-error mode with geometry bisection: brackets checked independently (alpha 5%; 2% does not converge at
+  // h = 1 mm, see the report of the Issue5 test).
+  verify::VerifierOptions m;
+  m.mode = verify::Mode::MaxError;
+  m.alpha = 0.05;
+  m.geometry_splitting = verify::GeometrySplitting::Always;
+  m.time_limit_s = 20.0;
+  const auto r = verify::Verifier::run(robot, ws, m);
+  EXPECT_GT(r.stats.geometry_splits, 0u);
+  checkMaxError(r, u, robot, box, s, m.alpha, rng);
+}
+
+// =====================================================================================================================
+// 6. Nominal robot: the geometry options change nothing
+// =====================================================================================================================
+
+TEST(UncertaintyVerifier, NominalRobotIgnoresTheGeometryOptionsBitForBit) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(withUncertainty(0.0));
+  ASSERT_EQ(robot.geometryParameterCount(), 0);
+  const IVec box = test::centredSubBox(rf.workspaces.at("paper").initialBox(), 1.0 / 32.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  const Uncertain nominal(withUncertainty(0.0));
+  const Sampled s = sample(nominal, box, 200, 909);
+  auto same = [](const verify::VerifierResult& a, const verify::VerifierResult& b, const std::string& what) {
+    SCOPED_TRACE(what);
+    EXPECT_EQ(a.verdict, b.verdict);
+    EXPECT_EQ(a.reason, b.reason);
+    EXPECT_EQ(a.message, b.message);
+    EXPECT_EQ(a.stats.boxes, b.stats.boxes);
+    EXPECT_EQ(a.stats.max_depth, b.stats.max_depth);
+    EXPECT_EQ(a.stats.safe_fraction, b.stats.safe_fraction);
+    EXPECT_EQ(a.stats.undecided_fraction, b.stats.undecided_fraction);
+    EXPECT_EQ(a.stats.geometry_switches, 0u);
+    EXPECT_EQ(b.stats.geometry_switches, 0u);
+    EXPECT_EQ(a.stats.geometry_splits, 0u);
+    EXPECT_EQ(b.stats.geometry_splits, 0u);
+    EXPECT_EQ(a.sensitive_count, 0u);
+    EXPECT_EQ(b.sensitive_count, 0u);
+    EXPECT_EQ(a.undecided_box_count, b.undecided_box_count);
+    ASSERT_EQ(a.witness.size(), b.witness.size());
+    for (int i = 0; i < a.witness.size(); ++i) EXPECT_EQ(a.witness[i], b.witness[i]);
+    EXPECT_EQ(a.witness_component, b.witness_component);
+    EXPECT_EQ(a.witness_lower_bound, b.witness_lower_bound);
+    ASSERT_EQ(a.max_lower.size(), b.max_lower.size());
+    for (int k = 0; k < a.max_lower.size(); ++k) {
+      EXPECT_EQ(a.max_lower[k], b.max_lower[k]);
+      EXPECT_EQ(a.max_upper[k], b.max_upper[k]);
+      EXPECT_EQ(a.max_argmax[k], b.max_argmax[k]);
+    }
+    EXPECT_TRUE(a.max_argmax_geometry.empty() || a.max_argmax_geometry == b.max_argmax_geometry);
+    ASSERT_EQ(a.undecided_boxes.size(), b.undecided_boxes.size());
+    for (std::size_t i = 0; i < a.undecided_boxes.size(); ++i) {
+      EXPECT_TRUE(a.undecided_boxes[i].geometry.empty());
+      EXPECT_TRUE(b.undecided_boxes[i].geometry.empty());
+    }
+  };
+  for (const double factor : {1.10, 0.95, 0.0}) {
+    verify::VerifierOptions plain;
+    plain.threads = 1;
+    if (factor > 0.0) {
+      plain.thresholds = s.max * factor;
+    } else {
+      plain.mode = verify::Mode::MaxError;
+      plain.alpha = 0.05;
+    }
+    const auto reference = verify::Verifier::run(robot, ws, plain);
+    if (factor > 1.0) {
+      EXPECT_EQ(reference.verdict, Verdict::Safe);
+    }
+    if (factor > 0.0 && factor < 1.0) {
+      EXPECT_EQ(reference.verdict, Verdict::Unsafe);
+    }
+    for (const auto mode :
+         {verify::GeometrySplitting::Never, verify::GeometrySplitting::Always, verify::GeometrySplitting::Auto}) {
+      for (const int stall : {0, 1, 5}) {
+        verify::VerifierOptions o = plain;
+        o.geometry_splitting = mode;
+        o.stall_levels = stall;
+        same(reference, verify::Verifier::run(robot, ws, o),
+             "factor " + std::to_string(factor) + " mode " + std::to_string(static_cast<int>(mode)) + " stall " +
+                 std::to_string(stall));
+      }
+    }
+  }
+}
+
+// =====================================================================================================================
+// Reproducers of the problems found (disabled: they fail on the current core; see the report of issue #5)
+// =====================================================================================================================
+
+TEST(UncertaintyKnownIssues, DISABLED_FallbackToIntervalCoefficientsLeavesAllZeroGeometrySmear) {
+  // A box of the centred 1/16 paper sub-box at h = 1 mm where AffineInverseAction::apply() accepts J = N C but
+  // rejects 2 of the 64 sign columns (its Neumann verification), so encloseWithGeometry() returns false after
+  // having set geometrySmear / geometrySensitivity to zero matrices of full size; the interval-coefficient path then
+  // leaves them so. ErrorBounds documents them as empty outside the second-order geometry form; a zero 6 x 36 matrix
+  // makes Verifier::chooseGeometrySplit() see valid-looking all-zero scores (no geometry split ever chosen for such
+  // boxes) and errorAtPose() report zero sensitivities (vertexModel() then picks the all-upper vertex).
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const domain::Workspace ws = domain::Workspace::fromRanges(
+      test::toRanges(test::centredSubBox(test::ref6File().workspaces.at("paper").initialBox(), 1.0 / 16.0)));
+  IVec b(6);
+  b << Interval(-0.00498047, -0.00483398), Interval(0.00761719, 0.00820312), Interval(0.475781, 0.475977),
+      Interval(-0.0122718, -0.0102265), Interval(-0.00818123, 0), Interval(-0.0102265, -0.00920388);
+  enclosure::BoxInput in;
+  ws.poseView(b, true, in);
+  enclosure::ErrorBounds eb;
+  enclosure::makeEnclosure("second_order")->enclose(robot, in, eb);
+  ASSERT_TRUE(eb.bounded());
+  if (eb.geometrySmear.size() > 0) {
+    EXPECT_GT(eb.geometrySmear.cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_GT(eb.geometrySensitivity.cwiseAbs().maxCoeff(), 0.0);
+  }
+}
+
+TEST(UncertaintyKnownIssues, DISABLED_SmearBisectionStallsWhereWidthBisectionProvesSafeIn167Boxes) {
+  // h = 1 mm, centred 1/16 paper sub-box, thresholds 1.10 x sampled maxima: Smear bisection is still UNDECIDED
+  // after thousands of boxes (depth 36+) while LargestScaledWidth proves SAFE in 167 boxes, and thresholds 1.08 x
+  // (tighter!) are proven SAFE in 31 boxes. The stuck boxes are ones where the geometry form falls back to interval
+  // coefficients (the apply() problem below): a bound ~10% looser, zero geometry smear, and a pose smear that misses
+  // the variable (pitch) whose bisection removes 11% of the bound.
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const IVec box = test::centredSubBox(test::ref6File().workspaces.at("paper").initialBox(), 1.0 / 16.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  const Sampled s = sample(u, box, 100, 808);
+  verify::VerifierOptions o;
+  o.threads = 1;
+  o.max_boxes = 5000;
+  o.thresholds = s.max * 1.08;
+  EXPECT_EQ(verify::Verifier::run(robot, ws, o).verdict, Verdict::Safe);
+  o.bisection = verify::Bisection::LargestScaledWidth;
+  o.thresholds = s.max * 1.10;
+  EXPECT_EQ(verify::Verifier::run(robot, ws, o).verdict, Verdict::Safe);
+  o.bisection = verify::Bisection::Smear;
+  const auto r = verify::Verifier::run(robot, ws, o);
+  EXPECT_EQ(r.verdict, Verdict::Safe) << r.message;
+}
+
+TEST(UncertaintyKnownIssues, DISABLED_ApplySuccessDoesNotDependOnTheRightHandSide) {
+  // AffineInverseAction::apply() verifies the Neumann majorant |y| <= z with z ~ (I - |E|)^-1 w, w >= |v|, slack
+  // z *= 1 + 1e-9. For an entry l with w_l << z_l (here v = C (1e-5, ..., 1e-5): |v_3| = 8e-11 while
+  // z_3 = 3e-7) that slack (~1e-9 w_l) is below the 1e-12 relative inflation of up(), so next_l > z_l by 2e-12
+  // relative; the repair raises only the failing entries by 1%, which breaks the other entries through |E|, and 4
+  // attempts ping-pong without success. Here rho(|E|) = 0.22: the majorant exists for every v, apply(C) succeeds,
+  // but apply(C 1e-5 1) fails (and so does MeanValueEnclosure's geometry form for this box, see above).
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const domain::Workspace ws = domain::Workspace::fromRanges(
+      test::toRanges(test::centredSubBox(test::ref6File().workspaces.at("paper").initialBox(), 1.0 / 16.0)));
+  IVec b(6);
+  b << Interval(-0.00498047, -0.00483398), Interval(0.00761719, 0.00820312), Interval(0.475781, 0.475977),
+      Interval(-0.0122718, -0.0102265), Interval(-0.00818123, 0), Interval(-0.0102265, -0.00920388);
+  enclosure::BoxInput in;
+  ws.poseView(b, true, in);
+  enclosure::AffineInverseAction act;
+  ASSERT_TRUE(act.prepare(robot, in));
+  const DMat& c = act.preconditioner();
+  IMat cols(6, 6), v(6, 1);
+  for (int l = 0; l < 6; ++l) {
+    Interval sum(0.0);
+    for (int j = 0; j < 6; ++j) {
+      cols(l, j) = Interval(c(l, j));
+      sum += Interval(c(l, j)) * Interval(1e-5);
+    }
+    v(l, 0) = sum;
+  }
+  enclosure::AffineInverseAction::AffineMatrix a;
+  ASSERT_TRUE(act.apply(cols, a));
+  EXPECT_TRUE(act.apply(v, a));
+}
