@@ -13,7 +13,7 @@
 //   UncertaintyAffine*     AffineInverseAction: the affine forms (and combine()) contain N V computed in MPFR;
 //   UncertaintyVerifier*   the verifier on the reference robot (max-error brackets, SAFE / UNSAFE /
 //                          uncertainty-sensitive verdicts checked independently), strategy (b), nominal invariance;
-//   UncertaintyKnownIssues* (DISABLED_) reproducers of the problems found in the core (they fail today).
+//   UncertaintyRegression*: reproducers of problems once found in the core (fixed; kept as regression tests).
 #include <gtest/gtest.h>
 #include <mpfr.h>
 
@@ -1425,10 +1425,10 @@ TEST(UncertaintyVerifier, NominalRobotIgnoresTheGeometryOptionsBitForBit) {
 }
 
 // =====================================================================================================================
-// Reproducers of the problems found (disabled: they fail on the current core; see the report of issue #5)
+// Regression tests for problems found while writing these tests (fixed in the core; the comments describe the cause)
 // =====================================================================================================================
 
-TEST(UncertaintyKnownIssues, DISABLED_FallbackToIntervalCoefficientsLeavesAllZeroGeometrySmear) {
+TEST(UncertaintyRegression, FallbackToIntervalCoefficientsLeavesNoZeroGeometryHints) {
   // A box of the centred 1/16 paper sub-box at h = 1 mm where AffineInverseAction::apply() accepts J = N C but
   // rejects 2 of the 64 sign columns (its Neumann verification), so encloseWithGeometry() returns false after
   // having set geometrySmear / geometrySensitivity to zero matrices of full size; the interval-coefficient path then
@@ -1453,7 +1453,7 @@ TEST(UncertaintyKnownIssues, DISABLED_FallbackToIntervalCoefficientsLeavesAllZer
   }
 }
 
-TEST(UncertaintyKnownIssues, DISABLED_SmearBisectionStallsWhereWidthBisectionProvesSafeIn167Boxes) {
+TEST(UncertaintyRegression, SmearBisectionProvesSafeWhereItOnceStalled) {
   // h = 1 mm, centred 1/16 paper sub-box, thresholds 1.10 x sampled maxima: Smear bisection is still UNDECIDED
   // after thousands of boxes (depth 36+) while LargestScaledWidth proves SAFE in 167 boxes, and thresholds 1.08 x
   // (tighter!) are proven SAFE in 31 boxes. The stuck boxes are ones where the geometry form falls back to interval
@@ -1477,7 +1477,7 @@ TEST(UncertaintyKnownIssues, DISABLED_SmearBisectionStallsWhereWidthBisectionPro
   EXPECT_EQ(r.verdict, Verdict::Safe) << r.message;
 }
 
-TEST(UncertaintyKnownIssues, DISABLED_ApplySuccessDoesNotDependOnTheRightHandSide) {
+TEST(UncertaintyRegression, ApplySuccessDoesNotDependOnTheRightHandSide) {
   // AffineInverseAction::apply() verifies the Neumann majorant |y| <= z with z ~ (I - |E|)^-1 w, w >= |v|, slack
   // z *= 1 + 1e-9. For an entry l with w_l << z_l (here v = C (1e-5, ..., 1e-5): |v_3| = 8e-11 while
   // z_3 = 3e-7) that slack (~1e-9 w_l) is below the 1e-12 relative inflation of up(), so next_l > z_l by 2e-12
