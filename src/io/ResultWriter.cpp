@@ -230,6 +230,36 @@ Node strings(const std::vector<std::string>& v) {
 
 Node count(std::size_t n) { return Node::integer(static_cast<long long>(n)); }
 
+/// Name of geometry parameter p ("p<index>" if the run info does not know it).
+std::string parameterName(const RunInfo& info, std::size_t p) {
+  return p < info.geometry_parameters.size() ? info.geometry_parameters[p] : "p" + std::to_string(p);
+}
+
+/// One geometry (a value per parameter) as {name: value}; null if empty.
+Node geometryValues(const RunInfo& info, const std::vector<double>& g) {
+  if (g.empty()) return Node();
+  Node m = Node::object();
+  for (std::size_t p = 0; p < g.size(); ++p) m.set(parameterName(info, p), Node::number(g[p]));
+  return m;
+}
+
+/// Ranges of the geometry parameters as {name: [lo, hi]}; null if empty (every admissible geometry).
+Node geometryRanges(const RunInfo& info, const std::vector<Interval>& g) {
+  if (g.empty()) return Node();
+  Node m = Node::object();
+  for (std::size_t p = 0; p < g.size(); ++p) {
+    m.set(parameterName(info, p), Node::array().push(Node::number(g[p].lower())).push(Node::number(g[p].upper())));
+  }
+  return m;
+}
+
+/// Midpoints of a pose enclosure.
+DVec midpoints(const IVec& v) {
+  DVec p(v.size());
+  for (int i = 0; i < v.size(); ++i) p[i] = v[i].mid();
+  return p;
+}
+
 /// The pose of the witness: the midpoints of its enclosure (exact for a workspace, whose poses are the variables).
 DVec witnessPose(const verify::VerifierResult& r) {
   if (r.witness_pose.size() == 0) return r.witness;
@@ -268,6 +298,9 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("max_boxes", count(o.max_boxes));
   d.set("time_limit", Node::number(o.time_limit_s));
   d.set("min_width", numbersOrNull(o.min_width));
+  d.set("geometry_splitting", Node::string(geometrySplittingName(o.geometry_splitting)));
+  d.set("stall_levels", Node::integer(o.stall_levels));
+  d.set("geometry_parameters", info.geometry_parameters.empty() ? Node() : strings(info.geometry_parameters));
 
   const bool witness = hasWitness(r);
   d.set("witness", witness ? numbers(witnessPose(r)) : Node());
@@ -277,6 +310,36 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("witness_component_name", named ? Node::string(info.components[r.witness_component]) : Node());
   d.set("witness_lower_bound", witness ? Node::number(r.witness_lower_bound) : Node());
   d.set("witness_error_lower", witness ? numbersOrNull(r.witness_error_lower) : Node());
+
+  // Uncertainty-sensitive poses (verify mode with uncertain geometry).
+  d.set("sensitive_count", count(r.sensitive_count));
+  Node sensitive = Node::array();
+  for (std::size_t i = 0; i < r.sensitive.size() && i < info.max_listed_boxes; ++i) {
+    const verify::SensitivePose& p = r.sensitive[i];
+    Node e = Node::object();
+    e.set("point", numbers(p.point));
+    e.set("pose", p.pose.size() > 0 ? numbers(midpoints(p.pose)) : numbers(p.point));
+    e.set("region", box(p.region));
+    e.set("component", Node::integer(p.component));
+    e.set("component_name", p.component >= 0 && p.component < static_cast<int>(info.components.size())
+                                ? Node::string(info.components[p.component])
+                                : Node());
+    e.set("failing_lower", Node::number(p.failing_lower));
+    e.set("failing_geometry", geometryValues(info, p.failing_geometry));
+    const bool passing = !p.passing_geometry.empty();
+    e.set("passing_geometry", geometryValues(info, p.passing_geometry));
+    e.set("passing_upper", passing ? Node::number(p.passing_upper) : Node());
+    e.set("passes_all", Node::boolean(passing && p.passes_all));
+    const bool timed = isTrajectory(info) && p.point.size() > 0;
+    e.set("t", timed ? Node::number(info.timeOf(p.point[0])) : Node());
+    e.set("region_t", timed && p.region.size() > 0 && !p.region[0].isEmpty()
+                          ? Node::array()
+                                .push(Node::number(info.timeOf(p.region[0].lower())))
+                                .push(Node::number(info.timeOf(p.region[0].upper())))
+                          : Node());
+    sensitive.push(e);
+  }
+  d.set("sensitive", sensitive);
 
   if (o.mode == verify::Mode::MaxError && r.max_lower.size() > 0) {
     Node m = Node::object();
@@ -290,6 +353,15 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
       Node times = Node::array();
       for (const DVec& a : r.max_argmax) times.push(a.size() > 0 ? Node::number(info.timeOf(a[0])) : Node());
       m.set("argmax_t", times);
+    }
+    if (info.geometry_parameters.empty()) {
+      m.set("argmax_geometry", Node());
+    } else {
+      Node geometry = Node::array();
+      for (std::size_t k = 0; k < static_cast<std::size_t>(r.max_lower.size()); ++k) {
+        geometry.push(k < r.max_argmax_geometry.size() ? geometryValues(info, r.max_argmax_geometry[k]) : Node());
+      }
+      m.set("argmax_geometry", geometry);
     }
     d.set("max_error", m);
   } else {
@@ -305,6 +377,8 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   s.set("undecided_fraction", Node::number(r.stats.undecided_fraction));
   s.set("outside_fraction", Node::number(r.stats.outside_fraction));
   s.set("threads", Node::integer(r.stats.threads));
+  s.set("geometry_switches", count(r.stats.geometry_switches));
+  s.set("geometry_splits", count(r.stats.geometry_splits));
   d.set("stats", s);
 
   Node u = Node::object();
@@ -312,13 +386,15 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   u.set("count", count(r.undecided_box_count));
   u.set("recorded", count(r.undecided_boxes.size()));
   u.set("listed", count(listed));
-  Node boxes = Node::array(), upper = Node::array();
+  Node boxes = Node::array(), upper = Node::array(), geometry = Node::array();
   for (std::size_t i = 0; i < listed; ++i) {
     boxes.push(box(r.undecided_boxes[i].box));
     upper.push(numbers(r.undecided_boxes[i].upper));
+    geometry.push(geometryRanges(info, r.undecided_boxes[i].geometry));
   }
   u.set("boxes", boxes);
   u.set("upper", upper);
+  u.set("geometry", info.geometry_parameters.empty() ? Node() : geometry);
   d.set("undecided_boxes", u);
 
   d.set("domain", Node::string(info.domain));
@@ -434,6 +510,18 @@ std::string bisectionName(verify::Bisection bisection) {
   return "smear";
 }
 
+std::string geometrySplittingName(verify::GeometrySplitting splitting) {
+  switch (splitting) {
+    case verify::GeometrySplitting::Auto:
+      return "auto";
+    case verify::GeometrySplitting::Never:
+      return "never";
+    case verify::GeometrySplitting::Always:
+      return "always";
+  }
+  return "auto";
+}
+
 std::string jsonNumber(double x) {
   if (!std::isfinite(x)) return "null";
   char buf[64];
@@ -530,6 +618,38 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
     os << " (certified)\n";
   }
 
+  if (!r.sensitive.empty()) {
+    const verify::SensitivePose& p = r.sensitive.front();
+    const int k = p.component;
+    os << "sensitive: " << r.sensitive_count << " certified pose" << (r.sensitive_count == 1 ? "" : "s")
+       << " where the answer depends on the geometric uncertainty, e.g.\n";
+    const DVec pose = p.pose.size() > 0 ? midpoints(p.pose) : p.point;
+    if (info.trajectory.empty()) {
+      os << "           pose " << variables(info, pose) << "\n";
+    } else {
+      RunInfo poseNames = info;
+      poseNames.variables = {"x [m]", "y [m]", "z [m]", "roll [rad]", "pitch [rad]", "yaw [rad]"};
+      os << "           ";
+      if (isTrajectory(info) && p.point.size() > 0) os << "t = " << num(info.timeOf(p.point[0]), 9) << " s, ";
+      os << "pose " << variables(poseNames, pose) << "\n";
+    }
+    os << "           " << componentOf(info, k) << " worst error >= " << num(p.failing_lower, 9) << " "
+       << unitOf(info, k);
+    if (k >= 0 && k < o.thresholds.size()) os << " > threshold " << num(o.thresholds[k]) << " " << unitOf(info, k);
+    os << " for an admissible geometry (certified)\n";
+    if (!p.passing_geometry.empty()) {
+      os << "           another admissible geometry keeps it <= " << num(p.passing_upper, 9) << " " << unitOf(info, k)
+         << " there (certified" << (p.passes_all ? "; every component within its threshold" : "") << ")\n";
+    }
+    os << "           in the region " << boxText(info, p.region);
+    if (isTrajectory(info) && p.region.size() > 0 && !p.region[0].isEmpty()) {
+      os << " (t in [" << num(info.timeOf(p.region[0].lower())) << ", " << num(info.timeOf(p.region[0].upper()))
+         << "] s)";
+    }
+    os << "\n           (no pose was found that exceeds for every admissible geometry; the geometries are in the "
+          "--json / --yaml reports)\n";
+  }
+
   if (n > 0) {
     const bool maxError = r.max_lower.size() == n;
     os << "\n  " << pad("component", 11) << pad("unit", 6);
@@ -559,15 +679,26 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
   const auto& s = r.stats;
   os << "stats:     " << s.boxes << (s.boxes == 1 ? " box in " : " boxes in ") << num(s.seconds, 3) << " s on "
      << s.threads << " thread" << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth << "\n";
-  const bool stoppedAtWitness =
-      r.verdict == verify::Verdict::Unsafe && o.mode == verify::Mode::Verify && o.stop_at_first_witness;
+  if (!info.geometry_parameters.empty()) {
+    os << "geometry:  " << info.geometry_parameters.size() << " uncertain parameter"
+       << (info.geometry_parameters.size() == 1 ? "" : "s") << ", splitting "
+       << geometrySplittingName(o.geometry_splitting) << ": " << s.geometry_switches << " box"
+       << (s.geometry_switches == 1 ? "" : "es") << " switched to bisecting the geometry, " << s.geometry_splits
+       << " geometry split" << (s.geometry_splits == 1 ? "" : "s") << "\n";
+  }
+  const bool sensitiveStop =
+      r.verdict == verify::Verdict::Undecided && r.reason == verify::UndecidedReason::UncertaintySensitive;
+  const bool stoppedAtWitness = (r.verdict == verify::Verdict::Unsafe || sensitiveStop) &&
+                                o.mode == verify::Mode::Verify && o.stop_at_first_witness;
   os << "volume:    " << percent(s.safe_fraction) << (o.mode == verify::Mode::MaxError ? " settled, " : " safe, ")
      << percent(s.unsafe_fraction) << " unsafe, " << percent(s.undecided_fraction)
-     << (stoppedAtWitness ? " not examined, " : " undecided, ") << percent(s.outside_fraction)
-     << " outside the region\n";
+     << (stoppedAtWitness ? (sensitiveStop ? " undecided or not examined, " : " not examined, ") : " undecided, ")
+     << percent(s.outside_fraction) << " outside the region\n";
   if (stoppedAtWitness) {
     os << "left:      " << r.undecided_box_count << " box" << (r.undecided_box_count == 1 ? "" : "es")
-       << " not examined (the search stops at the first certified witness)\n";
+       << (sensitiveStop ? " undecided or not examined (the search stops at the first certified uncertainty-sensitive "
+                           "poses)\n"
+                         : " not examined (the search stops at the first certified witness)\n");
     return;
   }
   os << "undecided: " << r.undecided_box_count << " box" << (r.undecided_box_count == 1 ? "" : "es") << "\n";

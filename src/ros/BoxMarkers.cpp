@@ -160,6 +160,25 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
     array.markers.push_back(m);
   }
 
+  // The first uncertainty-sensitive pose and its region (the search box it was found in).
+  if (o.sensitive_poses > 0 && o.sensitive.component >= 0) {
+    const SensitiveSummary& sp = o.sensitive;
+    visualization_msgs::Marker m = marker(kMarkerNsSensitive, 0, visualization_msgs::Marker::SPHERE);
+    placement.place(m, Eigen::Vector3d(sp.pose[0], sp.pose[1], sp.pose[2]));
+    m.scale.x = m.scale.y = m.scale.z = 0.04 * unit;
+    m.color = color(1.0f, 0.9f, 0.0f, 1.0f);
+    array.markers.push_back(m);
+    visualization_msgs::Marker r = marker(kMarkerNsSensitive, 1, visualization_msgs::Marker::CUBE);
+    const Box6& b = sp.region;
+    placement.place(r,
+                    Eigen::Vector3d(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
+    r.scale.x = std::max(b.hi[0] - b.lo[0], thin);
+    r.scale.y = std::max(b.hi[1] - b.lo[1], thin);
+    r.scale.z = std::max(b.hi[2] - b.lo[2], thin);
+    r.color = color(1.0f, 0.9f, 0.0f, 0.35f);
+    array.markers.push_back(r);
+  }
+
   // The verdict.
   {
     visualization_msgs::Marker m = marker(kMarkerNsLabel, 0, visualization_msgs::Marker::TEXT_VIEW_FACING);

@@ -90,6 +90,14 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
   }
   o.time_limit_s = q.time_budget;
   o.threads = static_cast<int>(q.threads);
+  if (q.geometry_splitting == "never") {
+    o.geometry_splitting = verify::GeometrySplitting::Never;
+  } else if (q.geometry_splitting == "always") {
+    o.geometry_splitting = verify::GeometrySplitting::Always;
+  } else {
+    o.geometry_splitting = verify::GeometrySplitting::Auto;
+  }
+  o.stall_levels = q.stall_levels;
   o.cancel = hooks.cancel;
   o.progress = hooks.progress;
   o.progress_period_s = hooks.progress_period_s;
@@ -158,6 +166,37 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
   out.unsafe_fraction = r.stats.unsafe_fraction;
   out.undecided_fraction = r.stats.undecided_fraction;
   out.outside_fraction = r.stats.outside_fraction;
+
+  // Geometric uncertainty: the statistics and the first uncertainty-sensitive pose.
+  out.geometry_switches = r.stats.geometry_switches;
+  out.geometry_splits = r.stats.geometry_splits;
+  out.sensitive_poses = r.sensitive_count;
+  if (!r.sensitive.empty()) {
+    const verify::SensitivePose& p = r.sensitive.front();
+    SensitiveSummary& s = out.sensitive;
+    s.component = p.component;
+    s.failing_lower = p.failing_lower;
+    s.failing_geometry = p.failing_geometry;
+    s.passing_geometry = p.passing_geometry;
+    s.passing_upper = p.passing_geometry.empty() ? 0.0 : p.passing_upper;
+    s.passes_all = !p.passing_geometry.empty() && p.passes_all;
+    if (q.is_trajectory) {
+      // As the witness: the variable is u, the pose the midpoint of the verifier's enclosure of the pose there.
+      if (p.point.size() >= 1) s.t = q.trajectory.timeOf(p.point[0]);
+      for (int k = 0; k < 6 && k < p.pose.size(); ++k) s.pose[static_cast<std::size_t>(k)] = p.pose[k].mid();
+      if (p.region.size() >= 1 && !p.region[0].isEmpty()) {
+        s.t_start = q.trajectory.timeOf(p.region[0].lower());
+        s.t_end = q.trajectory.timeOf(p.region[0].upper());
+      }
+    } else {
+      // The workspace's variables (in the query's frame), as the witness and the undecided boxes.
+      copy6(p.point, s.pose);
+      for (int i = 0; i < 6 && i < p.region.size(); ++i) {
+        s.region.lo[static_cast<std::size_t>(i)] = p.region[i].lower();
+        s.region.hi[static_cast<std::size_t>(i)] = p.region[i].upper();
+      }
+    }
+  }
 
   out.undecided_boxes = r.undecided_box_count;
   out.undecided_boxes_recorded = r.undecided_boxes.size();

@@ -52,6 +52,25 @@ bool method(const std::string& requested, const std::string& dflt, std::string& 
   return false;
 }
 
+bool geometrySplitting(const std::string& requested, std::string& out, std::string& error) {
+  if (requested.empty() || requested == "auto" || requested == "never" || requested == "always") {
+    out = requested.empty() ? "auto" : requested;
+    return true;
+  }
+  error = "geometry_splitting: expected \"auto\", \"never\", \"always\" or \"\" (auto), got \"" + requested + "\"";
+  return false;
+}
+
+bool stallLevels(std::int32_t requested, int& out, std::string& error) {
+  if (requested >= 0 && requested <= kMaxStallLevels) {
+    out = static_cast<int>(requested);
+    return true;
+  }
+  error = "stall_levels: expected 0 (the number of box variables) to " + std::to_string(kMaxStallLevels) + ", got " +
+          std::to_string(requested);
+  return false;
+}
+
 }  // namespace fields
 }  // namespace ros_layer
 }  // namespace pkm_accuracy

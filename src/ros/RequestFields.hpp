@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <string>
 
+#include "pkm_accuracy/ros/WorkspaceQuery.hpp"
+
 namespace pkm_accuracy {
 namespace ros_layer {
 namespace fields {
@@ -23,6 +25,12 @@ bool threads(std::uint32_t requested, std::string& error);
 /// `method`: "" gives `dflt` (the node's ~default_method, itself possibly "" = the verifier's); any other value must
 /// be a registered enclosure method name.
 bool method(const std::string& requested, const std::string& dflt, std::string& out, std::string& error);
+
+/// `geometry_splitting`: "" (= "auto"), "auto", "never" or "always"; `out` gets the name ("" becomes "auto").
+bool geometrySplitting(const std::string& requested, std::string& out, std::string& error);
+/// `stall_levels`: 0 (the number of box variables) to kMaxStallLevels.
+bool stallLevels(std::int32_t requested, int& out, std::string& error);
+constexpr std::int32_t kMaxStallLevels = 1000;
 
 /// `thresholds`: six numbers > 0 (m, m, m, rad, rad, rad; +inf allowed); in max-error mode all six may be 0
 /// ("none given", then `given` is false).
@@ -72,6 +80,17 @@ void fillCommonResponse(const Outcome& o, Response& res) {
   res.undecided_fraction = o.undecided_fraction;
   res.undecided_boxes = o.undecided_boxes;
   res.undecided_boxes_recorded = o.undecided_boxes_recorded;
+  res.geometry_switches = o.geometry_switches;
+  res.geometry_splits = o.geometry_splits;
+  res.sensitive_poses = o.sensitive_poses;
+  const SensitiveSummary& s = o.sensitive;
+  res.sensitive_component = s.component;
+  res.sensitive_failing_lower = s.failing_lower;
+  for (std::size_t k = 0; k < 6; ++k) res.sensitive_pose[k] = s.pose[k];
+  res.sensitive_failing_geometry = s.failing_geometry;
+  res.sensitive_passing_geometry = s.passing_geometry;
+  res.sensitive_passing_upper = s.passing_upper;
+  res.sensitive_passes_all = s.passes_all;
 }
 
 }  // namespace fields

@@ -104,6 +104,10 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
   if (!fields::threads(req.threads, error)) return false;
   q.threads = req.threads;
   if (!fields::method(req.method, defaults.method, q.method, error)) return false;
+  if (!fields::geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) ||
+      !fields::stallLevels(req.stall_levels, q.stall_levels, error)) {
+    return false;
+  }
   out = q;
   return true;
 }
@@ -117,6 +121,9 @@ void fillResponse(const WorkspaceOutcome& o, Response& res) {
   res.busy = o.busy;
   res.lower_bound_times = o.lower_bound_times;
   res.witness_t = o.witness_t;
+  res.sensitive_t = o.sensitive.t;
+  res.sensitive_t_start = o.sensitive.t_start;
+  res.sensitive_t_end = o.sensitive.t_end;
   res.undecided_t_start.clear();
   res.undecided_t_end.clear();
   for (const auto& iv : o.undecided_times) {
@@ -149,6 +156,8 @@ VerifyTrajectory::Request toRequest(const VerifyTrajectoryGoal& g) {
   r.threads = g.threads;
   r.method = g.method;
   r.frame_id = g.frame_id;
+  r.geometry_splitting = g.geometry_splitting;
+  r.stall_levels = g.stall_levels;
   return r;
 }
 

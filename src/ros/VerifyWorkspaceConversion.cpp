@@ -158,6 +158,10 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
   if (!fields::threads(req.threads, error)) return false;
   q.threads = req.threads;
   if (!fields::method(req.method, defaults.method, q.method, error)) return false;
+  if (!fields::geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) ||
+      !fields::stallLevels(req.stall_levels, q.stall_levels, error)) {
+    return false;
+  }
   out = q;
   return true;
 }
@@ -175,6 +179,10 @@ void fillResponse(const WorkspaceOutcome& o, Response& res) {
   }
   res.lower_bound_poses = o.lower_bound_poses;
   res.outside_fraction = o.outside_fraction;
+  for (std::size_t k = 0; k < 6; ++k) {
+    res.sensitive_region_min[k] = o.sensitive.region.lo[k];
+    res.sensitive_region_max[k] = o.sensitive.region.hi[k];
+  }
 }
 
 }  // namespace
@@ -208,6 +216,8 @@ VerifyWorkspace::Request toRequest(const VerifyWorkspaceGoal& g) {
   r.threads = g.threads;
   r.method = g.method;
   r.frame_id = g.frame_id;
+  r.geometry_splitting = g.geometry_splitting;
+  r.stall_levels = g.stall_levels;
   return r;
 }
 
@@ -259,6 +269,8 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.time_budget = q.time_budget;
   msg.min_width = q.min_width;
   msg.threads_requested = q.threads;
+  msg.geometry_splitting = q.geometry_splitting;
+  msg.stall_levels = q.stall_levels;
 
   fields::fillCommonResponse(o, msg);
   for (std::size_t k = 0; k < 6; ++k) {
@@ -267,6 +279,12 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   }
   msg.lower_bound_poses = o.lower_bound_poses;
   msg.outside_fraction = o.outside_fraction;
+  if (!q.is_trajectory) {
+    for (std::size_t k = 0; k < 6; ++k) {
+      msg.sensitive_region_min[k] = o.sensitive.region.lo[k];
+      msg.sensitive_region_max[k] = o.sensitive.region.hi[k];
+    }
+  }
 }
 
 }  // namespace ros_layer

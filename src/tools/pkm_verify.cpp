@@ -39,6 +39,8 @@ enum ExitCode : int { kSafe = 0, kUnsafe = 1, kUndecided = 2, kBadInput = 3, kIn
 const char* const kComponents[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
 const char* const kUnits[6] = {"m", "m", "m", "rad", "rad", "rad"};
 const char* const kVariables[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+/// --stall-levels: more levels than this would never switch in practice (boxes are 2^-levels of their parent).
+constexpr long long kMaxStallLevels = 1000;
 
 std::string methodList() {
   std::string list;
@@ -50,7 +52,8 @@ void usage(std::ostream& os) {
   os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE | --trajectory FILE] [--thresholds dx,dy,dz,rx,ry,rz]\n"
         "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
         "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
-        "                  [--bisection smear|width|round-robin] [--json OUT] [--yaml OUT] [--quiet] [--progress]\n"
+        "                  [--bisection smear|width|round-robin] [--geometry-splitting auto|never|always]\n"
+        "                  [--stall-levels N] [--json OUT] [--yaml OUT] [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
         "       pkm_verify --help\n"
         "\n"
@@ -84,6 +87,12 @@ void usage(std::ostream& os) {
         "                         rad, rad, rad; default 1e-5 of the workspace's width); with --trajectory one\n"
         "                         number per parameter (u in [0, 1]; u, v, ... for a variety)\n"
         "  --threads N            worker threads (default 0: all hardware threads)\n"
+        "  --geometry-splitting M with anchor uncertainty: auto (default: a box whose bound stops improving under\n"
+        "                         bisection switches from uncertainty as interval coefficients and first-order terms\n"
+        "                         to bisecting the geometry parameters), never (never bisect the geometry), always\n"
+        "                         (the geometry parameters compete with the box variables for every split)\n"
+        "  --stall-levels N       auto: bisection levels without 10% progress before a box switches to bisecting\n"
+        "                         the geometry (integer 0 to 1000; default 0: the number of box variables)\n"
         "  --time-limit S         stop after S seconds of wall time (default 0: no limit)\n"
         "  --max-boxes N          stop after N boxes (default 0: no limit)\n"
         "Output:\n"
@@ -101,8 +110,10 @@ void usage(std::ostream& os) {
         "  0  SAFE: every pose of the workspace is certified within every threshold\n"
         "     (max-error mode without thresholds: the bracket converged to alpha)\n"
         "  1  UNSAFE: a certified witness pose exceeds a threshold\n"
-        "  2  UNDECIDED: neither (budget exhausted, precision limit or interrupted; max-error mode without\n"
-        "     thresholds: the bracket did not converge)\n"
+        "  2  UNDECIDED: neither (budget exhausted, precision limit or interrupted; with anchor uncertainty also\n"
+        "     uncertainty_sensitive: a certified pose exceeds a threshold for some admissible geometries but none was\n"
+        "     found exceeding it for every geometry; max-error mode without thresholds: the bracket did not\n"
+        "     converge)\n"
         "  3  bad input: bad arguments, unreadable files or invalid values (one line on stderr names the argument\n"
         "     or field)\n"
         "  4  internal error\n"
@@ -149,10 +160,10 @@ Arguments parseArguments(int argc, char** argv) {
   bool haveThresholds = false;
   std::string thresholdsText;
   // Options that take a value.
-  static const std::vector<std::string> withValue = {"--robot",      "--workspace",   "--thresholds", "--mode",
-                                                     "--alpha",      "--uncertainty", "--method",     "--threads",
-                                                     "--time-limit", "--json",        "--yaml",       "--max-boxes",
-                                                     "--min-width",  "--bisection",   "--trajectory"};
+  static const std::vector<std::string> withValue = {
+      "--robot",      "--workspace",          "--thresholds",  "--mode", "--alpha",     "--uncertainty", "--method",
+      "--threads",    "--time-limit",         "--json",        "--yaml", "--max-boxes", "--min-width",   "--bisection",
+      "--trajectory", "--geometry-splitting", "--stall-levels"};
   static const std::vector<std::string> flags = {"--help", "-h", "--list-workspaces", "--quiet", "-q", "--progress"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -233,6 +244,18 @@ Arguments parseArguments(int argc, char** argv) {
       } else {
         badArgument(arg, "expected smear, width or round-robin, got '" + value + "'");
       }
+    } else if (arg == "--geometry-splitting") {
+      if (value == "auto") {
+        a.options.geometry_splitting = verify::GeometrySplitting::Auto;
+      } else if (value == "never") {
+        a.options.geometry_splitting = verify::GeometrySplitting::Never;
+      } else if (value == "always") {
+        a.options.geometry_splitting = verify::GeometrySplitting::Always;
+      } else {
+        badArgument(arg, "expected auto, never or always, got '" + value + "'");
+      }
+    } else if (arg == "--stall-levels") {
+      a.options.stall_levels = static_cast<int>(tools::parseCount(arg, value, kMaxStallLevels));
     } else if (arg == "--json") {
       if (value.empty()) badArgument(arg, "expected a file name or -, got an empty value");
       a.json = value;
@@ -487,6 +510,9 @@ int run(int argc, char** argv) {
   for (int i = 0; i < target.variables(); ++i) info.variables.push_back(target.variableName(i));
   info.components.assign(std::begin(kComponents), std::end(kComponents));
   info.units.assign(std::begin(kUnits), std::end(kUnits));
+  for (int p = 0; p < model.geometryParameterCount(); ++p) {
+    info.geometry_parameters.push_back(model.geometryParameterName(p));
+  }
   info.anchor_uncertainty = a.uncertainty ? *a.uncertainty : 0.0;
   if (!a.uncertainty && robot.geometry.hasUncertainty() && !robot.geometry.base_anchor_halfwidth.empty()) {
     info.anchor_uncertainty = robot.geometry.base_anchor_halfwidth.front()[0];

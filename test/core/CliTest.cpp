@@ -364,6 +364,46 @@ std::vector<double> scaled(const std::vector<double>& v, double s) {
   return out;
 }
 
+/// The reference robot with the geometry parameters of a report's {"base_anchors[i].x": value, ...} map set to their
+/// values (names: base_anchors[i].c, platform_anchors[i].c, tool_point.c). The oracle for reported geometries.
+pkm_accuracy::model::GoughPlatform ref6WithGeometry(const Json& values) {
+  auto g = pkm_accuracy::io::loadRobotFile(kRef6).geometry;
+  for (const auto& kv : values.object) {
+    const std::string& name = kv.first;
+    const int axis = name.back() - 'x';
+    EXPECT_TRUE(axis >= 0 && axis < 3 && name[name.size() - 2] == '.') << name;
+    Eigen::Vector3d* v = &g.tool_point;
+    if (name.rfind("tool_point.", 0) != 0) {
+      const int leg = std::stoi(name.substr(name.find('[') + 1));
+      EXPECT_TRUE(leg >= 0 && leg < 6) << name;
+      if (name.rfind("base_anchors[", 0) == 0) {
+        v = &g.base_anchors.at(static_cast<std::size_t>(leg));
+      } else {
+        EXPECT_EQ(name.rfind("platform_anchors[", 0), 0u) << name;
+        v = &g.platform_anchors.at(static_cast<std::size_t>(leg));
+      }
+    }
+    (*v)[axis] = kv.second.num();
+  }
+  return pkm_accuracy::model::GoughPlatform(g);
+}
+
+/// A reported geometry {name: value} is one of the robot's geometry parameters each, within its nominal value +- h.
+void expectAdmissibleGeometry(const Json& values, const Json& names, double h) {
+  ASSERT_EQ(values.type, Json::Type::Object);
+  ASSERT_EQ(values.size(), names.size());
+  const auto nominal = pkm_accuracy::io::loadRobotFile(kRef6).geometry;
+  for (const auto& n : names.array) {
+    ASSERT_TRUE(values.has(n.str())) << n.str();
+    const std::string& name = n.str();
+    const int axis = name.back() - 'x';
+    const int leg = std::stoi(name.substr(name.find('[') + 1));
+    const double centre = (name.rfind("base_anchors[", 0) == 0 ? nominal.base_anchors : nominal.platform_anchors)
+                              .at(static_cast<std::size_t>(leg))[axis];
+    EXPECT_LE(std::abs(values[name].num() - centre), h * (1.0 + 1e-9)) << name;
+  }
+}
+
 void expectInside(const std::vector<double>& p, const std::array<double, 12>& r) {
   ASSERT_EQ(p.size(), 6u);
   for (int i = 0; i < 6; ++i) {
@@ -376,9 +416,11 @@ void expectInside(const std::vector<double>& p, const std::array<double, 12>& r)
 TEST_F(CliTest, HelpDocumentsUsageAndExitCodes) {
   const RunResult r = run({"--help"});
   EXPECT_EQ(r.code, 0);
-  for (const char* s : {"--robot", "--workspace", "--thresholds", "--mode", "--alpha", "--uncertainty", "--method",
-                        "--threads", "--time-limit", "--json", "--yaml", "Exit codes", "0  SAFE", "1  UNSAFE",
-                        "2  UNDECIDED", "3  bad input", "4  internal error"}) {
+  for (const char* s :
+       {"--robot",           "--workspace",    "--thresholds",          "--mode",     "--alpha", "--uncertainty",
+        "--method",          "--threads",      "--time-limit",          "--json",     "--yaml",  "--geometry-splitting",
+        "auto|never|always", "--stall-levels", "uncertainty_sensitive", "Exit codes", "0  SAFE", "1  UNSAFE",
+        "2  UNDECIDED",      "3  bad input",   "4  internal error"}) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
   }
   EXPECT_TRUE(r.err.empty()) << r.err;
@@ -406,6 +448,15 @@ TEST_F(CliTest, GenerousThresholdsOnTinyBoxAreSafe) {
     EXPECT_EQ(j["undecided_boxes"]["count"].num(), 0.0);
     EXPECT_EQ(j["undecided_boxes"]["boxes"].size(), 0u);
     EXPECT_EQ(j["exit_code"].num(), 0.0);
+    // Without geometric uncertainty: the geometry keys are there, null or empty.
+    EXPECT_EQ(j["geometry_splitting"].str(), "auto");
+    EXPECT_EQ(j["stall_levels"].num(), 0.0);
+    EXPECT_TRUE(j["geometry_parameters"].isNull());
+    EXPECT_EQ(j["sensitive_count"].num(), 0.0);
+    EXPECT_EQ(j["sensitive"].size(), 0u);
+    EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
+    EXPECT_EQ(j["stats"]["geometry_splits"].num(), 0.0);
+    EXPECT_TRUE(j["undecided_boxes"]["geometry"].isNull());
   }
   // The human summary: verdict, units, stats; nothing on stderr when it is not a terminal (no progress garbage).
   const RunResult r = run({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds)});
@@ -413,6 +464,7 @@ TEST_F(CliTest, GenerousThresholdsOnTinyBoxAreSafe) {
   EXPECT_NE(r.out.find("verdict:   SAFE"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" rad "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("stats:"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("geometry:"), std::string::npos) << r.out;  // only with uncertain geometry
   EXPECT_TRUE(r.err.empty()) << r.err;
 }
 
@@ -593,6 +645,159 @@ TEST_F(CliTest, TimeLimitAndProgressInAPipe) {
   EXPECT_LE(j["undecided_boxes"]["listed"].num(), 100.0);
 }
 
+// With anchor uncertainty 0.1 mm, dx over kTiny reaches ~1.103e-4 m for the worst geometry and ~1.096e-4 m for the
+// nominal one: a dx threshold of 1.10e-4 m is exceeded for some admissible geometries only. UNDECIDED
+// (uncertainty_sensitive), exit 2, with the pose, its region and the failing / passing geometries, checked here
+// against the model rebuilt with those geometries.
+TEST_F(CliTest, UncertaintySensitivePoseIsReportedWithItsGeometries) {
+  const std::vector<double> thresholds = {1.10e-4, 1e-3, 1e-3, 1e-2, 1e-2, 1e-2};
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty",
+                          "1e-4", "--threads", "1", "--yaml", path("out.yaml")},
+                         2);
+  EXPECT_EQ(j["verdict"].str(), "UNDECIDED");
+  EXPECT_EQ(j["reason"].str(), "uncertainty_sensitive");
+  EXPECT_EQ(j["exit_code"].num(), 2.0);
+  EXPECT_TRUE(j["witness"].isNull());
+  const Json& names = j["geometry_parameters"];
+  ASSERT_EQ(names.size(), 36u);  // every coordinate of the 12 anchors
+  EXPECT_EQ(names[0].str(), "base_anchors[0].x");
+  EXPECT_EQ(names[35].str(), "platform_anchors[5].z");
+  EXPECT_GE(j["sensitive_count"].num(), 1.0);
+  ASSERT_GE(j["sensitive"].size(), 1u);
+  EXPECT_LE(static_cast<double>(j["sensitive"].size()), j["sensitive_count"].num());
+  for (const Json& e : j["sensitive"].array) {
+    const int k = static_cast<int>(e["component"].num());
+    ASSERT_EQ(k, 0);  // only dx can exceed
+    EXPECT_EQ(e["component_name"].str(), "dx");
+    const auto point = e["point"].numbers();
+    expectInside(point, kTiny);
+    EXPECT_EQ(e["pose"].numbers(), point);  // a workspace's variables are the pose
+    ASSERT_EQ(e["region"].size(), 6u);
+    for (int i = 0; i < 6; ++i) {
+      const auto lohi = e["region"][i].numbers();
+      ASSERT_EQ(lohi.size(), 2u);
+      EXPECT_LE(lohi[0], point[i]);
+      EXPECT_GE(lohi[1], point[i]);
+      EXPECT_GE(lohi[0], kTiny[2 * i]);
+      EXPECT_LE(lohi[1], kTiny[2 * i + 1]);
+    }
+    EXPECT_TRUE(e["t"].isNull());
+    EXPECT_TRUE(e["region_t"].isNull());
+    DVec pose(6);
+    for (int i = 0; i < 6; ++i) pose[i] = point[i];
+    // Failing geometry: admissible, and the robot built with it really exceeds the threshold there.
+    const double failing = e["failing_lower"].num();
+    EXPECT_GT(failing, thresholds[0]);
+    expectAdmissibleGeometry(e["failing_geometry"], names, 1e-4);
+    EXPECT_GE(ref6WithGeometry(e["failing_geometry"]).worstErrorAt(pose)[0], failing * (1.0 - 1e-9));
+    // Passing geometry (if any): admissible, and below the threshold there.
+    if (!e["passing_geometry"].isNull()) {
+      expectAdmissibleGeometry(e["passing_geometry"], names, 1e-4);
+      const double passing = e["passing_upper"].num();
+      EXPECT_LE(passing, thresholds[0]);
+      const DVec f = ref6WithGeometry(e["passing_geometry"]).worstErrorAt(pose);
+      EXPECT_LE(f[0], passing * (1.0 + 1e-9));
+      if (e["passes_all"].boolean) {
+        for (int c = 0; c < 6; ++c) EXPECT_LE(f[c], thresholds[c] * (1.0 + 1e-9)) << c;
+      }
+    } else {
+      EXPECT_TRUE(e["passing_upper"].isNull());
+      EXPECT_FALSE(e["passes_all"].boolean);
+    }
+  }
+  // The nominal robot stays below the threshold at the sensitive pose (that is why it is not a witness).
+  DVec pose(6);
+  for (int i = 0; i < 6; ++i) pose[i] = j["sensitive"][0]["point"][i].num();
+  EXPECT_LE(ref6Model().worstErrorAt(pose)[0], thresholds[0]);
+
+  // The YAML report says the same.
+  const YAML::Node y = YAML::LoadFile(path("out.yaml"));
+  EXPECT_EQ(y["reason"].as<std::string>(), "uncertainty_sensitive");
+  EXPECT_EQ(y["sensitive_count"].as<double>(), j["sensitive_count"].num());
+  EXPECT_EQ(y["sensitive"][0]["failing_lower"].as<double>(), j["sensitive"][0]["failing_lower"].num());
+  EXPECT_EQ(y["sensitive"][0]["failing_geometry"]["platform_anchors[3].z"].as<double>(),
+            j["sensitive"][0]["failing_geometry"]["platform_anchors[3].z"].num());
+  EXPECT_EQ(y["geometry_parameters"].size(), 36u);
+
+  // The summary: the sensitive pose and its region, and the geometry line.
+  const RunResult r = run({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty",
+                           "1e-4", "--threads", "1"});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.out.find("verdict:   UNDECIDED (uncertainty_sensitive)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("sensitive: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("for an admissible geometry (certified)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("in the region x ["), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("geometry:  36 uncertain parameters, splitting auto"), std::string::npos) << r.out;
+}
+
+TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
+  // Always: the geometry is bisected from the start, so a box budget leaves undecided boxes with narrowed geometry
+  // ranges (listed per box, named); never: no geometry split at all.
+  const std::vector<double> thresholds = {1.104e-4, 1.2e-4, 1e-3, 1e-2, 1e-2, 1e-2};
+  Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "1e-4",
+                    "--threads", "1", "--geometry-splitting", "always", "--stall-levels", "3", "--max-boxes", "100"},
+                   2);
+  EXPECT_EQ(j["reason"].str(), "box_budget");
+  EXPECT_EQ(j["geometry_splitting"].str(), "always");
+  EXPECT_EQ(j["stall_levels"].num(), 3.0);
+  EXPECT_GE(j["stats"]["geometry_switches"].num(), 1.0);
+  EXPECT_GE(j["stats"]["geometry_splits"].num(), j["stats"]["geometry_switches"].num());
+  const Json& u = j["undecided_boxes"];
+  ASSERT_EQ(u["geometry"].size(), u["boxes"].size());
+  std::size_t narrowed = 0;
+  for (const Json& g : u["geometry"].array) {
+    if (g.isNull()) continue;  // every admissible geometry
+    ASSERT_EQ(g.size(), 36u);
+    bool narrower = false;
+    for (const auto& kv : g.object) {
+      const auto lohi = kv.second.numbers();
+      ASSERT_EQ(lohi.size(), 2u) << kv.first;
+      EXPECT_LE(lohi[0], lohi[1]) << kv.first;
+      narrower = narrower || lohi[1] - lohi[0] < 1.9e-4;
+    }
+    if (narrower) ++narrowed;
+  }
+  EXPECT_GE(narrowed, 1u);
+
+  j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "1e-4",
+               "--threads", "1", "--geometry-splitting", "never", "--max-boxes", "20000"},
+              0);
+  EXPECT_EQ(j["verdict"].str(), "SAFE");  // strategy (a) alone decides this one
+  EXPECT_EQ(j["geometry_splitting"].str(), "never");
+  EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
+  EXPECT_EQ(j["stats"]["geometry_splits"].num(), 0.0);
+}
+
+TEST_F(CliTest, MaxErrorWithUncertaintyNamesTheWorstGeometry) {
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.05",
+                          "--uncertainty", "1e-4", "--threads", "1"},
+                         0);
+  EXPECT_TRUE(j["max_error"]["converged"].boolean);
+  const Json& names = j["geometry_parameters"];
+  ASSERT_EQ(names.size(), 36u);
+  const Json& geometry = j["max_error"]["argmax_geometry"];
+  ASSERT_EQ(geometry.size(), 6u);
+  const auto lower = j["max_error"]["lower"].numbers();
+  const auto nominal = sampledMax(ref6Model(), kTiny, 3);
+  std::size_t named = 0;
+  for (std::size_t k = 0; k < 6; ++k) {
+    SCOPED_TRACE("component " + std::to_string(k));
+    const auto argmax = j["max_error"]["argmax"][k].numbers();
+    DVec pose(6);
+    for (int i = 0; i < 6; ++i) pose[i] = argmax[static_cast<std::size_t>(i)];
+    if (geometry[k].isNull()) {  // attained for every admissible geometry: by the nominal one in particular
+      EXPECT_GE(ref6Model().worstErrorAt(pose)[static_cast<int>(k)], lower[k] * (1.0 - 1e-9));
+      continue;
+    }
+    ++named;
+    expectAdmissibleGeometry(geometry[k], names, 1e-4);
+    EXPECT_GE(ref6WithGeometry(geometry[k]).worstErrorAt(pose)[static_cast<int>(k)], lower[k] * (1.0 - 1e-9));
+  }
+  EXPECT_GE(named, 1u);
+  // The uncertainty raises the certified maxima above the nominal robot's (sampled) maxima.
+  EXPECT_GT(lower[0], nominal[0]);
+}
+
 TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
   const std::string inverted =
       writeWorkspace("inverted.yaml", {0.01, -0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -0.01, 0.01});
@@ -634,6 +839,13 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", t6, "--uncertainty", "-0.001"}, {"--uncertainty"}},
       {{"--robot", kRef6, "--thresholds", t6, "--min-width", "1,2,3"}, {"--min-width", "6"}},
       {{"--robot", kRef6, "--thresholds", t6, "--bisection", "random"}, {"--bisection", "random"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting", "sometimes"},
+       {"--geometry-splitting", "sometimes", "auto, never or always"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting="}, {"--geometry-splitting", "''"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting"}, {"--geometry-splitting", "missing value"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "-1"}, {"--stall-levels", "-1"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "2.5"}, {"--stall-levels", "2.5"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "5000"}, {"--stall-levels", "<= 1000", "5000"}},
       {{"--robot", kRef6, "--thresholds", t6, "--frobnicate"}, {"--frobnicate", "unknown option"}},
       {{"--robot", kRef6, "--thresholds", t6, "extra"}, {"extra", "unexpected argument"}},
       {{"--robot"}, {"--robot", "missing value"}},

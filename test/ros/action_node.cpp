@@ -152,6 +152,8 @@ TEST(Action, GoalAndResultAreTheServicesRequestAndResponse) {
   r.threads = 13;
   r.method = "precond";
   r.frame_id = "somewhere";
+  r.geometry_splitting = "always";
+  r.stall_levels = 14;
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
   pkm_accuracy::ros_layer::WorkspaceOutcome o;
@@ -183,11 +185,41 @@ TEST(Action, GoalAndResultAreTheServicesRequestAndResponse) {
   o.outside_fraction = 0.4;
   o.undecided_boxes = 12;
   o.undecided_boxes_recorded = 13;
+  o.geometry_switches = 14;
+  o.geometry_splits = 15;
+  o.sensitive_poses = 16;
+  o.sensitive.component = 2;
+  o.sensitive.failing_lower = 17.5;
+  o.sensitive.failing_geometry = {18.5, 19.5};
+  o.sensitive.passing_geometry = {20.5, 21.5};
+  o.sensitive.passing_upper = 22.5;
+  o.sensitive.passes_all = true;
+  for (std::size_t k = 0; k < 6; ++k) {
+    o.sensitive.pose[k] = 23.0 + static_cast<double>(k);
+    o.sensitive.region.lo[k] = 24.0 + static_cast<double>(k);
+    o.sensitive.region.hi[k] = 25.0 + static_cast<double>(k);
+  }
+  o.sensitive.t = 26.5;
+  o.sensitive.t_start = 27.5;
+  o.sensitive.t_end = 28.5;
   VerifyWorkspace::Response res;
   VerifyWorkspaceResult result;
   pkm_accuracy::ros_layer::toResponse(o, res);
   pkm_accuracy::ros_layer::toResult(o, result);
   EXPECT_EQ(bytes(result), bytes(res));
+  // The geometric-uncertainty fields reach the response.
+  EXPECT_EQ(res.geometry_switches, 14u);
+  EXPECT_EQ(res.geometry_splits, 15u);
+  EXPECT_EQ(res.sensitive_poses, 16u);
+  EXPECT_EQ(res.sensitive_component, 2);
+  EXPECT_EQ(res.sensitive_failing_lower, 17.5);
+  EXPECT_EQ(res.sensitive_failing_geometry, (std::vector<double>{18.5, 19.5}));
+  EXPECT_EQ(res.sensitive_passing_geometry, (std::vector<double>{20.5, 21.5}));
+  EXPECT_EQ(res.sensitive_passing_upper, 22.5);
+  EXPECT_TRUE(res.sensitive_passes_all);
+  EXPECT_EQ(res.sensitive_pose[5], 28.0);
+  EXPECT_EQ(res.sensitive_region_min[0], 24.0);
+  EXPECT_EQ(res.sensitive_region_max[5], 30.0);
 }
 
 TEST(Action, GoalsGetTheServicesVerdicts) {
@@ -222,6 +254,14 @@ TEST(Action, InvalidGoalsAreRejectedNamingTheField) {
   EXPECT_EQ(client().getResult()->job_id, 0u);
   EXPECT_NE(client().getResult()->message.find("region_type"), std::string::npos) << client().getResult()->message;
   EXPECT_NE(state.getText().find("region_type"), std::string::npos) << state.getText();
+
+  // The geometric-uncertainty options are checked as the service's.
+  req = smallRequest(kGenerous);
+  req.stall_levels = -3;
+  state = client().sendGoalAndWait(goalOf(req), ros::Duration(10.0));
+  EXPECT_EQ(state, State::REJECTED) << state.toString();
+  ASSERT_TRUE(client().getResult());
+  EXPECT_NE(client().getResult()->message.find("stall_levels"), std::string::npos) << client().getResult()->message;
 
   // A frame unknown to tf2: accepted as a job, aborted after the lookup, naming it.
   req = smallRequest(kGenerous);

@@ -78,6 +78,7 @@ TEST(Describe, ReturnsExactlyTheReferenceRobot) {
   EXPECT_EQ(r.tool_point.z, ref.tool_point.z());
   EXPECT_TRUE(r.base_anchor_halfwidth.empty());
   EXPECT_TRUE(r.platform_anchor_halfwidth.empty());
+  EXPECT_TRUE(r.geometry_parameters.empty());  // no anchor uncertainty (uncertainty.test has some)
 }
 
 TEST(Describe, AnchorFramesAreOnTfStatic) {
@@ -146,6 +147,8 @@ TEST(VerifyWorkspace, BadRequestsAreRefusedNamingTheFieldAndTheNodeSurvives) {
       {"time_budget", [](VerifyWorkspace::Request& r) { r.time_budget = -2.0; }},
       {"min_width", [](VerifyWorkspace::Request& r) { r.min_width = kNaN; }},
       {"frame_id", [](VerifyWorkspace::Request& r) { r.frame_id = "world"; }},
+      {"geometry_splitting", [](VerifyWorkspace::Request& r) { r.geometry_splitting = "sometimes"; }},
+      {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = -1; }},
   };
   for (const auto& c : cases) {
     VerifyWorkspace::Request req = paperRequest();

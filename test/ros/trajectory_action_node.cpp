@@ -136,6 +136,8 @@ TEST(TrajectoryAction, GoalAndResultAreTheServicesRequestAndResponse) {
   r.threads = 13;
   r.method = "precond";
   r.frame_id = "somewhere";
+  r.geometry_splitting = "never";
+  r.stall_levels = 14;
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
   pkm_accuracy::ros_layer::WorkspaceOutcome o;
@@ -166,11 +168,38 @@ TEST(TrajectoryAction, GoalAndResultAreTheServicesRequestAndResponse) {
   o.undecided_boxes = 12;
   o.undecided_boxes_recorded = 13;
   o.undecided_times = {{1.0, 1.5}, {2.0, 2.5}};
+  o.geometry_switches = 14;
+  o.geometry_splits = 15;
+  o.sensitive_poses = 16;
+  o.sensitive.component = 2;
+  o.sensitive.failing_lower = 17.5;
+  o.sensitive.failing_geometry = {18.5, 19.5};
+  o.sensitive.passing_geometry = {20.5, 21.5};
+  o.sensitive.passing_upper = 22.5;
+  o.sensitive.passes_all = true;
+  for (std::size_t k = 0; k < 6; ++k) {
+    o.sensitive.pose[k] = 23.0 + static_cast<double>(k);
+    o.sensitive.region.lo[k] = 24.0 + static_cast<double>(k);
+    o.sensitive.region.hi[k] = 25.0 + static_cast<double>(k);
+  }
+  o.sensitive.t = 26.5;
+  o.sensitive.t_start = 27.5;
+  o.sensitive.t_end = 28.5;
   VerifyTrajectory::Response res;
   VerifyTrajectoryResult result;
   pkm_accuracy::ros_layer::toResponse(o, res);
   pkm_accuracy::ros_layer::toResult(o, result);
   EXPECT_EQ(bytes(result), bytes(res));
+  // The geometric-uncertainty fields reach the response (a trajectory's region is a time interval).
+  EXPECT_EQ(res.geometry_switches, 14u);
+  EXPECT_EQ(res.geometry_splits, 15u);
+  EXPECT_EQ(res.sensitive_poses, 16u);
+  EXPECT_EQ(res.sensitive_component, 2);
+  EXPECT_EQ(res.sensitive_failing_geometry, (std::vector<double>{18.5, 19.5}));
+  EXPECT_EQ(res.sensitive_pose[0], 23.0);
+  EXPECT_EQ(res.sensitive_t, 26.5);
+  EXPECT_EQ(res.sensitive_t_start, 27.5);
+  EXPECT_EQ(res.sensitive_t_end, 28.5);
 }
 
 TEST(TrajectoryAction, SafeGoalSucceedsWithTheServicesVerdict) {

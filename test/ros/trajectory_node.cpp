@@ -229,6 +229,16 @@ TEST(VerifyTrajectory, MalformedFieldsAreRefusedByNameAndTheNodeKeepsServing) {
     r.frame_id = "world";
     expectRefused(r, "frame_id");
   }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.geometry_splitting = "often";
+    expectRefused(r, "geometry_splitting");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
+    r.stall_levels = -2;
+    expectRefused(r, "stall_levels");
+  }
   // Still serving, both services.
   const VerifyTrajectory::Response res = call(shortTrajectory(kGenerous));
   EXPECT_TRUE(res.success) << res.message;

@@ -59,6 +59,22 @@ TEST(VerifyWorkspace, SafeWithGenerousThresholds) {
     EXPECT_EQ(r.lower_bound[k], 0.0) << k;
     EXPECT_EQ(r.upper_bound[k], kGenerous[k]) << k;  // SAFE proves E_k <= threshold_k
   }
+  // No anchor uncertainty on this node: the uncertainty fields are empty.
+  EXPECT_EQ(r.geometry_switches, 0u);
+  EXPECT_EQ(r.geometry_splits, 0u);
+  EXPECT_EQ(r.sensitive_poses, 0u);
+  EXPECT_EQ(r.sensitive_component, -1);
+  EXPECT_TRUE(r.sensitive_failing_geometry.empty());
+  // The geometry options are accepted (and change nothing without uncertainty).
+  for (const char* splitting : {"auto", "never", "always"}) {
+    auto other = req;
+    other.geometry_splitting = splitting;
+    other.stall_levels = 3;
+    const auto o = verify(other);
+    ASSERT_TRUE(o.success) << splitting << ": " << o.message;
+    EXPECT_EQ(o.verdict, "SAFE") << splitting;
+    EXPECT_EQ(o.geometry_splits, 0u) << splitting;
+  }
   // Oracle: no sampled pose exceeds a threshold.
   for (const auto& p : grid(req)) {
     const auto f = worstErrorAt(p);
@@ -239,6 +255,10 @@ TEST(VerifyWorkspace, VerdictIsLatched) {
     EXPECT_EQ(v.lower_bound[k], r.lower_bound[k]);
   }
   EXPECT_EQ(v.message, r.message);
+  EXPECT_EQ(v.geometry_splitting, "auto");  // "" in the request
+  EXPECT_EQ(v.stall_levels, 0);
+  EXPECT_EQ(v.sensitive_poses, 0u);
+  EXPECT_EQ(v.sensitive_component, -1);
 }
 
 TEST(VerifyWorkspace, ProgressIsPublishedWhileAJobRuns) {
@@ -364,6 +384,10 @@ TEST(VerifyWorkspace, EveryMalformedFieldIsRefusedNamingItAndTheNodeKeepsServing
       {"min_width", [](VerifyWorkspace::Request& r) { r.min_width = kNaN; }},
       {"threads", [](VerifyWorkspace::Request& r) { r.threads = 100000; }},
       {"method", [](VerifyWorkspace::Request& r) { r.method = "magic"; }},
+      {"geometry_splitting", [](VerifyWorkspace::Request& r) { r.geometry_splitting = "sometimes"; }},
+      {"geometry_splitting", [](VerifyWorkspace::Request& r) { r.geometry_splitting = "Auto"; }},
+      {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = -1; }},
+      {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = 1001; }},
   };
   for (const auto& c : cases) {
     VerifyWorkspace::Request req = smallRequest(kGenerous);

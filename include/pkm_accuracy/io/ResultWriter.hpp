@@ -9,14 +9,26 @@
 //   tool, exit_code, verdict ("SAFE" | "UNSAFE" | "UNDECIDED"), reason ("none", "precision_limit", ...), message,
 //   mode ("verify" | "max-error"), robot, workspace, workspace_region, workspace_box ([[lo, hi] x variables]),
 //   variables (names), components (["dx", "dy", "dz", "rx", "ry", "rz"]), units (["m", "m", "m", "rad", ...]),
-//   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty,
+//   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty, max_boxes, time_limit,
+//   min_width, geometry_splitting ("auto" | "never" | "always"), stall_levels (0 = number of box variables),
+//   geometry_parameters (names of the uncertain geometry parameters, e.g. "platform_anchors[3].z", in the order of
+//   the model's parameters; null without geometric uncertainty),
 //   witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the domain's variables),
 //   witness_component (index), witness_component_name, witness_lower_bound, witness_error_lower ([6] or null),
+//   sensitive_count (uncertainty-sensitive poses found: some admissible geometry exceeds a threshold there, none was
+//   shown to exceed for every geometry), sensitive (the first ones, at most max_listed_boxes: [{point (domain
+//   variables), pose ([6], midpoints of its enclosure), region (the search box [[lo, hi] x variables]), component,
+//   component_name, failing_lower, failing_geometry ({parameter name: value}), passing_geometry ({name: value} or
+//   null), passing_upper (or null), passes_all, t and region_t (trajectories: s; else null)}]),
 //   max_error: {lower: [6], upper: [6], converged, argmax: [[...] per component or null]
-//               (trajectories: also argmax_t, the time of every argmax in s)} in max-error mode,
+//               (trajectories: also argmax_t, the time of every argmax in s), argmax_geometry ({parameter name:
+//               value} per component, the geometry attaining lower at argmax; null entries where the bound holds
+//               for every geometry; null without geometric uncertainty)} in max-error mode,
 //   stats: {boxes, seconds, max_depth, safe_fraction, unsafe_fraction, undecided_fraction, outside_fraction,
-//           threads},
-//   undecided_boxes: {count, recorded, listed, boxes: [[[lo, hi] x variables] ...], upper: [[6] ...]},
+//           threads, geometry_switches, geometry_splits},
+//   undecided_boxes: {count, recorded, listed, boxes: [[[lo, hi] x variables] ...], upper: [[6] ...],
+//                     geometry: [{parameter name: [lo, hi]} or null (every admissible geometry), one per listed box]
+//                     or null without geometric uncertainty},
 //   domain ("workspace" | "trajectory" | "variety"), trajectory (file path or null), trajectory_type (null for a
 //   workspace), time_span ([t_0, t_N] in s, trajectories only), witness_t (the witness time in s when UNSAFE on a
 //   trajectory), undecided_t (trajectories: the recorded undecided boxes as time intervals [[t_lo, t_hi] ...], sorted
@@ -46,7 +58,10 @@ struct RunInfo {
   std::vector<std::string> variables;  ///< names of the domain's variables
   std::vector<std::string> components = {"dx", "dy", "dz", "rx", "ry", "rz"};  ///< error components
   std::vector<std::string> units = {"m", "m", "m", "rad", "rad", "rad"};       ///< unit of each component
-  double anchor_uncertainty = 0.0;     ///< m (half-width of every anchor coordinate)
+  double anchor_uncertainty = 0.0;  ///< m (half-width of every anchor coordinate)
+  /// Names of the model's uncertain geometry parameters (model::RobotModel::geometryParameterName), in the order of
+  /// every geometry vector of the result; empty without geometric uncertainty.
+  std::vector<std::string> geometry_parameters;
   int exit_code = -1;                  ///< the process exit code, if known (-1: not written)
   std::size_t max_listed_boxes = 100;  ///< undecided boxes listed in the reports
   // Trajectories and motion varieties (pkm_verify --trajectory).
@@ -66,6 +81,9 @@ std::vector<std::pair<double, double>> undecidedTimes(const verify::VerifierResu
 std::string modeName(verify::Mode mode);
 /// Name of a bisection rule as on the command line: "smear", "width", "round-robin".
 std::string bisectionName(verify::Bisection bisection);
+
+/// Name of a geometry splitting mode as on the command line: "auto", "never", "always".
+std::string geometrySplittingName(verify::GeometrySplitting splitting);
 
 /// A double as JSON: up to 17 significant digits (exact round trip), "null" for inf / NaN.
 std::string jsonNumber(double x);

@@ -1,6 +1,7 @@
 // ~boxes: a finished job drawn for RViz (visualization_msgs/MarkerArray, in the robot's base frame): the workspace
 // (its region as a translucent shape and its bounding box as a wireframe), the recorded undecided boxes (position
-// projection, orange cubes), the witness of an UNSAFE verdict (red sphere) and a text label with the verdict. Only
+// projection, orange cubes), the witness of an UNSAFE verdict (red sphere), the first uncertainty-sensitive pose and
+// its region (yellow sphere and translucent cube) and a text label with the verdict. Only
 // what the verifier reports is drawn: it records undecided boxes and the witness, not the boxes it proved safe.
 #pragma once
 
@@ -20,7 +21,10 @@ constexpr const char* kMarkerNsWorkspace = "workspace";      ///< id 0: the regi
 constexpr const char* kMarkerNsBounds = "workspace_bounds";  ///< id 0: LINE_LIST, the region's bounding box
 constexpr const char* kMarkerNsUndecided = "undecided";      ///< ids 0..n-1: CUBE per distinct position projection
 constexpr const char* kMarkerNsWitness = "witness";          ///< id 0: SPHERE at the witness position (UNSAFE)
-constexpr const char* kMarkerNsLabel = "label";              ///< id 0: TEXT_VIEW_FACING, "job N: VERDICT ..."
+/// Anchor uncertainty, reason uncertainty_sensitive: id 0: SPHERE at the first uncertainty-sensitive pose's position,
+/// id 1: CUBE, the position projection of the search box it was found in.
+constexpr const char* kMarkerNsSensitive = "sensitive";
+constexpr const char* kMarkerNsLabel = "label";  ///< id 0: TEXT_VIEW_FACING, "job N: VERDICT ..."
 
 /// The markers of a finished job: first a DELETEALL (clears the previous job's), then the markers above. Poses of
 /// the query's frame are mapped to `base_frame` with the query's transform (poses only: display, not a proof).

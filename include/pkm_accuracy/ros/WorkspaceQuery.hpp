@@ -65,6 +65,10 @@ struct WorkspaceQuery {
   double min_width = 0.0;    ///< m / rad, >= 0 (0: the verifier chooses)
   unsigned threads = 0;      ///< 0 = all hardware threads
   std::string method;        ///< enclosure method name; "": the verifier's default
+  /// Geometric uncertainty (robots with anchor uncertainty): "auto", "never" or "always" (verify::GeometrySplitting)
+  /// and the stall levels of "auto" (0 = the number of box variables).
+  std::string geometry_splitting = "auto";
+  int stall_levels = 0;
   /// Frame of the workspace and of every pose of the outcome; "" = the robot's base frame. For another frame the
   /// node fills the transform below from tf2 (has_transform) before the core runs.
   std::string frame_id;
@@ -78,6 +82,19 @@ struct WorkspaceQuery {
 struct Box6 {
   std::array<double, 6> lo{};
   std::array<double, 6> hi{};
+};
+
+/// The first uncertainty-sensitive pose of a result (verify::SensitivePose; units and frames as the witness).
+struct SensitiveSummary {
+  int component = -1;                          ///< 0..5; -1: none
+  double failing_lower = 0.0;                  ///< certified, for failing_geometry
+  std::array<double, 6> pose{};                ///< x, y, z (m), roll, pitch, yaw (rad); workspace: in the query's frame
+  Box6 region;                                 ///< workspace: the search box it was found in (query's frame)
+  double t = 0.0, t_start = 0.0, t_end = 0.0;  ///< trajectory: its time and the time interval searched (s)
+  std::vector<double> failing_geometry;        ///< one value per geometry parameter (model order)
+  std::vector<double> passing_geometry;        ///< empty: none found
+  double passing_upper = 0.0;
+  bool passes_all = false;
 };
 
 /// Outcome of one request (mirrors the response of srv/VerifyWorkspace.srv, whose comments give units and frames).
@@ -110,6 +127,11 @@ struct WorkspaceOutcome {
   std::vector<Box6> undecided_recorded;  ///< the recorded undecided boxes themselves (for ~boxes; not in the srv)
   /// trajectory: the recorded undecided boxes as time intervals (s), sorted, merged where they touch or overlap
   std::vector<std::pair<double, double>> undecided_times;
+  // Geometric uncertainty.
+  std::uint64_t geometry_switches = 0;  ///< boxes that switched to bisecting the geometry
+  std::uint64_t geometry_splits = 0;    ///< bisections of a geometry parameter
+  std::uint64_t sensitive_poses = 0;    ///< uncertainty-sensitive poses found
+  SensitiveSummary sensitive;           ///< the first of them (component -1 if none)
 };
 
 /// Node-wide defaults for the options a request leaves at 0.
