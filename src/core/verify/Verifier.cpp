@@ -63,6 +63,7 @@ struct Track {
   double ref = kInf;
   int since = 0;
   enclosure::SignPattern signs;  ///< signs of J certified on the parent box (inherited by its sub-boxes)
+  DVec upper;                    ///< the parent box's upper bounds (valid for its sub-boxes; empty at the root)
 };
 
 class Run {
@@ -133,7 +134,9 @@ class Run {
   void process(const IVec& box, int depth, unsigned active, const Track& track) {
     raiseInt(maxDepth_, depth);
     if (stopRequested()) {
-      recordUndecided(box, DVec::Constant(n_, kInf), ~0u, track);
+      // A box left when the run stops keeps its parent's bounds (valid on the sub-box), so a stopped max-error run
+      // still reports a finite upper bound where every box was enclosed at least once.
+      recordUndecided(box, track.upper.size() == n_ ? track.upper : DVec::Constant(n_, kInf), ~0u, track);
       return;
     }
     const double vol = relativeVolume(box) * (track.geometry ? track.geometry->fraction : 1.0);
@@ -200,6 +203,7 @@ class Run {
     // bisect a geometry parameter instead (strategy (b)) when that is where the bound's width comes from.
     Track next = track;
     next.signs = bounds.signs;
+    next.upper = bounds.upper;
     int geometrySplit = -1;
     if (params_ > 0 && options_.geometry_splitting != GeometrySplitting::Never && !byWidth) {
       const double excess = relativeExcess(bounds, active);
