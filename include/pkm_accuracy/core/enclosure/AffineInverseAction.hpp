@@ -1,16 +1,18 @@
 // Enclosure of N(t, g) v over a box of poses t AND the box of uncertain geometry parameters g, where
 // N = (C J^-1(t, g))^-1 and C is an approximate inverse of J^-1 at the box centre with the geometry at its centre.
 //
-// With E = C J^-1 - I = E0 + sum_i D_i (t_i - t0_i) + sum_p G_p (g_p - g0_p) + (higher order), N = I - E + E^2 N:
+// With E = C J^-1 - I = E0 + sum_i D_i (t_i - t0_i) + sum_p G_p (g_p - g0_p) (mean-value forms: D_i over the pose
+// box at the centre geometry, G_p over the pose box and every geometry), N = I - E + E^2 N:
 //   (N v)_k in (v - E0 v)_k - sum_i (D_i v)_k dev_i - sum_p (G_p v)_k dev_p  +/-  second-order remainder,
 // where every first-order term is exact per variable (the cancellations across legs are kept, unlike interval
 // coefficients, which widen every entry of E independently). The remainder splits E = S + L, S the pose part
-// (including E0) and L the geometry part, and bounds E^2 N v = S E y + L S y + L L y (y = N v) with
-//   |S E y| + |L S y| <= (|S| (|S| + |L|) + |L| |S|) |y|,   |y| <= (I - |E|)^-1 |v| (verified),
-// (in |S L y| the factor L y keeps its cancellations: |L y| <= |C| B, B_j = sum over row j's parameters of
-// |d_p . y| h_p), and L L y through the structure of L: each parameter moves one row i of J^-1 (G_p = C e_i d_p^T, d_p
-// the derivative of that row), so (L L y)_k = sum_{p,q} C_ki(p) (d_p . C_{.,i(q)}) (d_q . y) dev_p dev_q keeps the
-// cancellations inside the dot products. Nothing here is heuristic: every bound is rigorous (rounding included).
+// (including E0) and L the geometry part, and bounds E^2 N v = S S y + S L y + L S y + L L y (y = N v) with
+//   |S S y| <= |S| |S| z,  |L S y| <= |L| |S| z,  z >= |y| from (I - |E|) z >= |v| (verified, so rho(|E|) < 1),
+//   |S L y| <= |S| |C| B  (L y keeps its cancellations: B_j = sum over row j's parameters of |d_p . y| h_p),
+// and L L y through the structure of L: each parameter moves one row i of J^-1 (G_p = C e_i d_p^T, d_p the
+// derivative of that row), so (L L y)_k = sum_{p,q} C_ki(p) (d_p . C_{.,i(q)}) (d_q . y) dev_p dev_q keeps the
+// cancellations inside the dot products. Nothing here is heuristic: every bound is rigorous (rounding included,
+// midpoint-radius double arithmetic with a priori error bounds).
 //
 // This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
 // O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
