@@ -8,125 +8,13 @@
 #include <random>
 #include <vector>
 
+#include "MpfrGough.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 
 using namespace pkm_accuracy;
-
-namespace {
-
-// ---- a tiny MPFR matrix toolkit (RAII) -----------------------------------------------------------------------
-struct Mp {
-  mpfr_t v;
-  Mp() { mpfr_init2(v, 200); }
-  explicit Mp(double d) {
-    mpfr_init2(v, 200);
-    mpfr_set_d(v, d, MPFR_RNDN);
-  }
-  Mp(const Mp& o) {
-    mpfr_init2(v, 200);
-    mpfr_set(v, o.v, MPFR_RNDN);
-  }
-  Mp& operator=(const Mp& o) {
-    mpfr_set(v, o.v, MPFR_RNDN);
-    return *this;
-  }
-  ~Mp() { mpfr_clear(v); }
-};
-Mp operator+(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_add(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp operator-(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_sub(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp operator*(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_mul(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp operator/(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_div(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp mpSqrt(const Mp& a) {
-  Mp r;
-  mpfr_sqrt(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-Mp mpSin(const Mp& a) {
-  Mp r;
-  mpfr_sin(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-Mp mpCos(const Mp& a) {
-  Mp r;
-  mpfr_cos(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-Mp mpAbs(const Mp& a) {
-  Mp r;
-  mpfr_abs(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-
-/// Worst error per component at pose q, in MPFR: J^-1 by the conventions, inverted by Gauss-Jordan with pivoting.
-std::vector<Mp> mpfrWorstError(const model::GoughGeometry& g, const DVec& q) {
-  const Mp sr = mpSin(Mp(q[3])), cr = mpCos(Mp(q[3])), sp = mpSin(Mp(q[4])), cp = mpCos(Mp(q[4]));
-  const Mp sy = mpSin(Mp(q[5])), cy = mpCos(Mp(q[5]));
-  const Mp r[3][3] = {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
-                      {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
-                      {Mp(0.0) - sp, cp * sr, cp * cr}};
-  std::vector<std::vector<Mp>> a(6, std::vector<Mp>(12, Mp(0.0)));
-  for (int i = 0; i < 6; ++i) {
-    Mp d[3], u[3];
-    for (int k = 0; k < 3; ++k) {
-      Mp rb(0.0), ru(0.0);
-      for (int l = 0; l < 3; ++l) {
-        rb = rb + r[k][l] * Mp(g.platform_anchors[i][l]);
-        ru = ru + r[k][l] * (Mp(g.platform_anchors[i][l]) - Mp(g.tool_point[l]));
-      }
-      d[k] = Mp(q[k]) + rb - Mp(g.base_anchors[i][k]);
-      u[k] = ru;
-    }
-    const Mp len = mpSqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    Mp n[3] = {d[0] / len, d[1] / len, d[2] / len};
-    a[i][0] = n[0];
-    a[i][1] = n[1];
-    a[i][2] = n[2];
-    a[i][3] = u[1] * n[2] - u[2] * n[1];
-    a[i][4] = u[2] * n[0] - u[0] * n[2];
-    a[i][5] = u[0] * n[1] - u[1] * n[0];
-    a[i][6 + i] = Mp(1.0);
-  }
-  for (int k = 0; k < 6; ++k) {
-    int p = k;
-    for (int i = k + 1; i < 6; ++i)
-      if (mpfr_cmpabs(a[i][k].v, a[p][k].v) > 0) p = i;
-    std::swap(a[k], a[p]);
-    const Mp piv = a[k][k];
-    for (int j = 0; j < 12; ++j) a[k][j] = a[k][j] / piv;
-    for (int i = 0; i < 6; ++i) {
-      if (i == k) continue;
-      const Mp f = a[i][k];
-      for (int j = 0; j < 12; ++j) a[i][j] = a[i][j] - f * a[k][j];
-    }
-  }
-  std::vector<Mp> f(6, Mp(0.0));
-  for (int k = 0; k < 6; ++k)
-    for (int j = 0; j < 6; ++j) f[k] = f[k] + mpAbs(a[k][6 + j]) * Mp(g.sensor_error[j]);
-  return f;
-}
-
-bool mpLessEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) <= 0; }
-bool mpGreaterEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) >= 0; }
-
-}  // namespace
+using namespace pkm_accuracy::test;  // the MPFR reference toolkit (MpfrGough.hpp)
 
 TEST(ErrorEnclosure, RegistryKnowsEveryMethodAndRejectsUnknownNames) {
   for (const auto& name : enclosure::enclosureNames()) EXPECT_EQ(enclosure::makeEnclosure(name)->name(), name);

@@ -27,6 +27,7 @@
 
 #include <Eigen/LU>
 
+#include "MpfrGough.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
@@ -35,143 +36,11 @@
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
 using namespace pkm_accuracy;
+using namespace pkm_accuracy::test;  // the MPFR reference toolkit (MpfrGough.hpp)
 using verify::UndecidedReason;
 using verify::Verdict;
 
 namespace {
-
-// ---- MPFR (200 bits) ------------------------------------------------------------------------------------------------
-struct Mp {
-  mpfr_t v;
-  Mp() { mpfr_init2(v, 200); }
-  explicit Mp(double d) {
-    mpfr_init2(v, 200);
-    mpfr_set_d(v, d, MPFR_RNDN);
-  }
-  Mp(const Mp& o) {
-    mpfr_init2(v, 200);
-    mpfr_set(v, o.v, MPFR_RNDN);
-  }
-  Mp& operator=(const Mp& o) {
-    mpfr_set(v, o.v, MPFR_RNDN);
-    return *this;
-  }
-  ~Mp() { mpfr_clear(v); }
-};
-Mp operator+(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_add(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp operator-(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_sub(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp operator*(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_mul(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp operator/(const Mp& a, const Mp& b) {
-  Mp r;
-  mpfr_div(r.v, a.v, b.v, MPFR_RNDN);
-  return r;
-}
-Mp mpSqrt(const Mp& a) {
-  Mp r;
-  mpfr_sqrt(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-Mp mpSin(const Mp& a) {
-  Mp r;
-  mpfr_sin(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-Mp mpCos(const Mp& a) {
-  Mp r;
-  mpfr_cos(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-Mp mpAbs(const Mp& a) {
-  Mp r;
-  mpfr_abs(r.v, a.v, MPFR_RNDN);
-  return r;
-}
-double toDouble(const Mp& a) { return mpfr_get_d(a.v, MPFR_RNDN); }
-bool mpLessEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) <= 0; }
-bool mpGreaterEqual(const Mp& a, double b) { return mpfr_cmp_d(a.v, b) >= 0; }
-
-using MpMat = std::vector<std::vector<Mp>>;
-
-/// J^-1 at pose q of a concrete geometry, by the conventions (docs/conventions.md), in MPFR.
-MpMat mpInverseJacobian(const model::GoughGeometry& g, const DVec& q) {
-  const Mp sr = mpSin(Mp(q[3])), cr = mpCos(Mp(q[3])), sp = mpSin(Mp(q[4])), cp = mpCos(Mp(q[4]));
-  const Mp sy = mpSin(Mp(q[5])), cy = mpCos(Mp(q[5]));
-  const Mp r[3][3] = {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
-                      {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
-                      {Mp(0.0) - sp, cp * sr, cp * cr}};
-  MpMat a(6, std::vector<Mp>(6, Mp(0.0)));
-  for (int i = 0; i < 6; ++i) {
-    Mp d[3], u[3];
-    for (int k = 0; k < 3; ++k) {
-      Mp rb(0.0), ru(0.0);
-      for (int l = 0; l < 3; ++l) {
-        rb = rb + r[k][l] * Mp(g.platform_anchors[i][l]);
-        ru = ru + r[k][l] * (Mp(g.platform_anchors[i][l]) - Mp(g.tool_point[l]));
-      }
-      d[k] = Mp(q[k]) + rb - Mp(g.base_anchors[i][k]);
-      u[k] = ru;
-    }
-    const Mp len = mpSqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    const Mp n[3] = {d[0] / len, d[1] / len, d[2] / len};
-    a[i][0] = n[0];
-    a[i][1] = n[1];
-    a[i][2] = n[2];
-    a[i][3] = u[1] * n[2] - u[2] * n[1];
-    a[i][4] = u[2] * n[0] - u[0] * n[2];
-    a[i][5] = u[0] * n[1] - u[1] * n[0];
-  }
-  return a;
-}
-
-/// X = A^-1 B (A: n x n, B: n x m) by Gauss-Jordan elimination with partial pivoting, in MPFR.
-MpMat mpSolve(MpMat a, MpMat b) {
-  const int n = static_cast<int>(a.size());
-  const int m = static_cast<int>(b[0].size());
-  for (int k = 0; k < n; ++k) {
-    int p = k;
-    for (int i = k + 1; i < n; ++i)
-      if (mpfr_cmpabs(a[i][k].v, a[p][k].v) > 0) p = i;
-    std::swap(a[k], a[p]);
-    std::swap(b[k], b[p]);
-    const Mp piv = a[k][k];
-    for (int j = 0; j < n; ++j) a[k][j] = a[k][j] / piv;
-    for (int j = 0; j < m; ++j) b[k][j] = b[k][j] / piv;
-    for (int i = 0; i < n; ++i) {
-      if (i == k) continue;
-      const Mp f = a[i][k];
-      for (int j = 0; j < n; ++j) a[i][j] = a[i][j] - f * a[k][j];
-      for (int j = 0; j < m; ++j) b[i][j] = b[i][j] - f * b[k][j];
-    }
-  }
-  return b;
-}
-
-MpMat mpIdentity(int n) {
-  MpMat id(n, std::vector<Mp>(n, Mp(0.0)));
-  for (int i = 0; i < n; ++i) id[i][i] = Mp(1.0);
-  return id;
-}
-
-/// Worst error of every component at pose q for a concrete geometry: sum_j |J_kj| e_j, J = (J^-1)^-1, in MPFR.
-std::vector<Mp> mpfrWorstError(const model::GoughGeometry& g, const DVec& q) {
-  const MpMat j = mpSolve(mpInverseJacobian(g, q), mpIdentity(6));
-  std::vector<Mp> f(6, Mp(0.0));
-  for (int k = 0; k < 6; ++k)
-    for (int l = 0; l < 6; ++l) f[k] = f[k] + mpAbs(j[k][l]) * Mp(g.sensor_error[l]);
-  return f;
-}
 
 // ---- admissible geometries, built here ------------------------------------------------------------------------------
 using Geometry = std::vector<double>;  ///< one value per geometry parameter
@@ -1428,6 +1297,25 @@ TEST(UncertaintyVerifier, NominalRobotIgnoresTheGeometryOptionsBitForBit) {
 // Regression tests for problems found while writing these tests (fixed in the core; the comments describe the cause)
 // =====================================================================================================================
 
+namespace {
+
+/// The box of the centred 1/16 paper sub-box at h = 1 mm where two of the problems below showed, as the enclosures see
+/// it (ReproducerBox::in).
+struct ReproducerBox {
+  model::GoughPlatform robot{withUncertainty(0.001)};
+  enclosure::BoxInput in;
+  ReproducerBox() {
+    const domain::Workspace ws = domain::Workspace::fromRanges(
+        test::toRanges(test::centredSubBox(test::ref6File().workspaces.at("paper").initialBox(), 1.0 / 16.0)));
+    IVec b(6);
+    b << Interval(-0.00498047, -0.00483398), Interval(0.00761719, 0.00820312), Interval(0.475781, 0.475977),
+        Interval(-0.0122718, -0.0102265), Interval(-0.00818123, 0), Interval(-0.0102265, -0.00920388);
+    ws.poseView(b, true, in);
+  }
+};
+
+}  // namespace
+
 TEST(UncertaintyRegression, FallbackToIntervalCoefficientsLeavesNoZeroGeometryHints) {
   // A box of the centred 1/16 paper sub-box at h = 1 mm where AffineInverseAction::apply() accepts J = N C but
   // rejects 2 of the 64 sign columns (its Neumann verification), so encloseWithGeometry() returns false after
@@ -1435,17 +1323,9 @@ TEST(UncertaintyRegression, FallbackToIntervalCoefficientsLeavesNoZeroGeometryHi
   // leaves them so. ErrorBounds documents them as empty outside the second-order geometry form; a zero 6 x 36 matrix
   // makes Verifier::chooseGeometrySplit() see valid-looking all-zero scores (no geometry split ever chosen for such
   // boxes) and errorAtPose() report zero sensitivities (vertexModel() then picks the all-upper vertex).
-  const Uncertain u(withUncertainty(0.001));
-  const model::GoughPlatform robot(u.geometry);
-  const domain::Workspace ws = domain::Workspace::fromRanges(
-      test::toRanges(test::centredSubBox(test::ref6File().workspaces.at("paper").initialBox(), 1.0 / 16.0)));
-  IVec b(6);
-  b << Interval(-0.00498047, -0.00483398), Interval(0.00761719, 0.00820312), Interval(0.475781, 0.475977),
-      Interval(-0.0122718, -0.0102265), Interval(-0.00818123, 0), Interval(-0.0102265, -0.00920388);
-  enclosure::BoxInput in;
-  ws.poseView(b, true, in);
+  const ReproducerBox r;
   enclosure::ErrorBounds eb;
-  enclosure::makeEnclosure("second_order")->enclose(robot, in, eb);
+  enclosure::makeEnclosure("second_order")->enclose(r.robot, r.in, eb);
   ASSERT_TRUE(eb.bounded());
   if (eb.geometrySmear.size() > 0) {
     EXPECT_GT(eb.geometrySmear.cwiseAbs().maxCoeff(), 0.0);
@@ -1484,17 +1364,9 @@ TEST(UncertaintyRegression, ApplySuccessDoesNotDependOnTheRightHandSide) {
   // relative; the repair raises only the failing entries by 1%, which breaks the other entries through |E|, and 4
   // attempts ping-pong without success. Here rho(|E|) = 0.22: the majorant exists for every v, apply(C) succeeds,
   // but apply(C 1e-5 1) fails (and so does MeanValueEnclosure's geometry form for this box, see above).
-  const Uncertain u(withUncertainty(0.001));
-  const model::GoughPlatform robot(u.geometry);
-  const domain::Workspace ws = domain::Workspace::fromRanges(
-      test::toRanges(test::centredSubBox(test::ref6File().workspaces.at("paper").initialBox(), 1.0 / 16.0)));
-  IVec b(6);
-  b << Interval(-0.00498047, -0.00483398), Interval(0.00761719, 0.00820312), Interval(0.475781, 0.475977),
-      Interval(-0.0122718, -0.0102265), Interval(-0.00818123, 0), Interval(-0.0102265, -0.00920388);
-  enclosure::BoxInput in;
-  ws.poseView(b, true, in);
+  const ReproducerBox r;
   enclosure::AffineInverseAction act;
-  ASSERT_TRUE(act.prepare(robot, in));
+  ASSERT_TRUE(act.prepare(r.robot, r.in));
   const DMat& c = act.preconditioner();
   IMat cols(6, 6), v(6, 1);
   for (int l = 0; l < 6; ++l) {
