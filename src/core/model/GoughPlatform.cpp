@@ -76,18 +76,23 @@ void rowDerivative(const Interval d[3], const Interval u[3], const Interval n[3]
   }
 }
 
-/// R = Rz(yaw) Ry(pitch) Rx(roll) over a pose box.
-void rotation(const IVec& q, Interval r[3][3]) {
-  const Interval sr = interval::sin(q[3]), cr = interval::cos(q[3]);
-  const Interval sp = interval::sin(q[4]), cp = interval::cos(q[4]);
-  const Interval sy = interval::sin(q[5]), cy = interval::cos(q[5]);
-  const Interval cysp = cy * sp, sysp = sy * sp;
-  const Interval v[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
-                            {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
-                            {-sp, cp * sr, cp * cr}};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r[i][j] = v[i][j];
-}
+/// R = Rz(yaw) Ry(pitch) Rx(roll) over a pose box, with the sines and cosines it is made of.
+struct Rotation {
+  Interval sr, cr, sp, cp, sy, cy, cysp, sysp;
+  Interval r[3][3];
+  explicit Rotation(const IVec& q)
+      : sr(interval::sin(q[3])),
+        cr(interval::cos(q[3])),
+        sp(interval::sin(q[4])),
+        cp(interval::cos(q[4])),
+        sy(interval::sin(q[5])),
+        cy(interval::cos(q[5])),
+        cysp(cy * sp),
+        sysp(sy * sp),
+        r{{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
+          {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
+          {-sp, cp * sr, cp * cr}} {}
+};
 
 }  // namespace
 
@@ -169,8 +174,8 @@ IMat GoughPlatform::inverseJacobianAtGeometryCentre(const IVec& pose) const {
 bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out) const {
   out.count = 0;
   if (params_.empty()) return true;
-  Interval r[3][3];
-  rotation(q, r);
+  const Rotation rot(q);
+  const auto& r = rot.r;
   Interval d[6][3], u[6][3], n[6][3], m[6][3], len[6];
   for (int i = 0; i < 6; ++i) {
     const Interval bc[3] = {b_[i][0] - c_[0], b_[i][1] - c_[1], b_[i][2] - c_[2]};
@@ -338,13 +343,10 @@ void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) cons
 
 void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
                                 MatrixWithGradient& out) const {
-  const Interval sr = interval::sin(q[3]), cr = interval::cos(q[3]);
-  const Interval sp = interval::sin(q[4]), cp = interval::cos(q[4]);
-  const Interval sy = interval::sin(q[5]), cy = interval::cos(q[5]);
-  const Interval cysp = cy * sp, sysp = sy * sp;
-  const Interval r[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
-                            {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
-                            {-sp, cp * sr, cp * cr}};
+  const Rotation rot(q);
+  const Interval &sr = rot.sr, &cr = rot.cr, &sp = rot.sp, &cp = rot.cp, &sy = rot.sy, &cy = rot.cy;
+  const Interval &cysp = rot.cysp, &sysp = rot.sysp;
+  const auto& r = rot.r;
   // dR/droll = R [e_x]x: column 1 <- column 2, column 2 <- -column 1. dR/dyaw = [e_z]x R: row 0 <- -row 1,
   // row 1 <- row 0, row 2 <- 0. dR/dpitch = Rz dRy/dpitch Rx, entry by entry.
   const Interval cycp = cy * cp, sycp = sy * cp;
