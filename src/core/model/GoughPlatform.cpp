@@ -190,29 +190,60 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
     m[i][1] = (u[i][2] * d[i][0] - u[i][0] * d[i][2]) / len[i];
     m[i][2] = (u[i][0] * d[i][1] - u[i][1] * d[i][0]) / len[i];
   }
+  // Each kind of parameter moves d and u along a fixed direction, so rowDerivative() simplifies (same formulas:
+  // dL = (d . dd) / L, dn = (dd - n dL) / L, dm = (du x d + u x dd - m dL) / L), with fewer interval operations:
+  //   base anchor A_i, coordinate c: dd = -e_c, du = 0: dL = -n_c, dn = (n n_c - e_c) / L, dm = (m n_c - u x e_c) / L;
+  //   platform anchor b_i:           dd = du = R e_c:   du x d + u x dd = R e_c x (d - u), d - u = p + R c - A_i;
+  //   tool point c:                  dd = 0, du = -R e_c: dL = 0, dn = 0, dm = (d x R e_c) / L.
+  Interval inv[6], rc[3];
+  for (int i = 0; i < 6; ++i) inv[i] = Interval(1.0) / len[i];
+  for (int k = 0; k < 3; ++k) rc[k] = r[k][0] * c_[0] + r[k][1] * c_[1] + r[k][2] * c_[2];
   const Interval zero(0.0);
-  auto add = [&](int p, int row, const Interval dd[3], const Interval du[3]) {
+  auto entry = [&](int p, int row) -> std::array<Interval, kMaxDof>& {
     GeometryRowDerivative& e = out.entries[out.count++];
     e.parameter = p;
     e.row = row;
-    Interval v[6];
-    rowDerivative(d[row], u[row], n[row], m[row], len[row], dd, du, v);
-    for (int k = 0; k < 6; ++k) e.d[k] = v[k];
+    return e.d;
   };
   for (int p = 0; p < geometryParameterCount(); ++p) {
     const Parameter& par = params_[p];
-    const Interval column[3] = {r[0][par.coord], r[1][par.coord], r[2][par.coord]};  // R e_coord
-    if (par.kind == Parameter::Base) {  // d = p + R b - A: dd = -e_coord; u does not move
-      Interval dd[3] = {zero, zero, zero};
-      dd[par.coord] = Interval(-1.0);
-      const Interval du[3] = {zero, zero, zero};
-      add(p, par.leg, dd, du);
-    } else if (par.kind == Parameter::Platform) {  // dd = du = R e_coord
-      add(p, par.leg, column, column);
-    } else {  // tool point: u = R (b - c) moves in every row, d does not
-      const Interval dd[3] = {zero, zero, zero};
-      const Interval du[3] = {-column[0], -column[1], -column[2]};
-      for (int row = 0; row < 6; ++row) add(p, row, dd, du);
+    const int c = par.coord, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+    const Interval column[3] = {r[0][c], r[1][c], r[2][c]};  // R e_c
+    if (par.kind == Parameter::Base) {
+      const int i = par.leg;
+      auto& v = entry(p, i);
+      const Interval nc = n[i][c];
+      // u x e_c: component c is 0, component c1 is u_c2, component c2 is -u_c1.
+      Interval ue[3];
+      ue[c] = zero;
+      ue[c1] = u[i][c2];
+      ue[c2] = -u[i][c1];
+      for (int k = 0; k < 3; ++k) {
+        v[k] = (k == c ? n[i][k] * nc - Interval(1.0) : n[i][k] * nc) * inv[i];
+        v[3 + k] = (m[i][k] * nc - ue[k]) * inv[i];
+      }
+    } else if (par.kind == Parameter::Platform) {
+      const int i = par.leg;
+      auto& v = entry(p, i);
+      const Interval w[3] = {q[0] + rc[0] - a_[i][0], q[1] + rc[1] - a_[i][1], q[2] + rc[2] - a_[i][2]};
+      const Interval dl = n[i][0] * column[0] + n[i][1] * column[1] + n[i][2] * column[2];
+      const Interval dw[3] = {column[1] * w[2] - column[2] * w[1], column[2] * w[0] - column[0] * w[2],
+                              column[0] * w[1] - column[1] * w[0]};
+      for (int k = 0; k < 3; ++k) {
+        v[k] = (column[k] - n[i][k] * dl) * inv[i];
+        v[3 + k] = (dw[k] - m[i][k] * dl) * inv[i];
+      }
+    } else {
+      for (int i = 0; i < 6; ++i) {
+        auto& v = entry(p, i);
+        const Interval* dv = d[i];
+        const Interval dw[3] = {dv[1] * column[2] - dv[2] * column[1], dv[2] * column[0] - dv[0] * column[2],
+                                dv[0] * column[1] - dv[1] * column[0]};
+        for (int k = 0; k < 3; ++k) {
+          v[k] = zero;
+          v[3 + k] = dw[k] * inv[i];
+        }
+      }
     }
   }
   return true;
