@@ -11,8 +11,10 @@
 //   |S L y| <= |S| |C| B  (L y keeps its cancellations: B_j = sum over row j's parameters of |d_p . y| h_p),
 // and L L y through the structure of L: each parameter moves one row i of J^-1 (G_p = C e_i d_p^T, d_p the
 // derivative of that row), so (L L y)_k = sum_{p,q} C_ki(p) (d_p . C_{.,i(q)}) (d_q . y) dev_p dev_q keeps the
-// cancellations inside the dot products. Nothing here is heuristic: every bound is rigorous (rounding included,
-// midpoint-radius double arithmetic with a priori error bounds).
+// cancellations inside the dot products; |d_q . y| <= |d_q . v| + |d_q . (y - v)|, the last bounded through
+// y - v = -(E0 + P) y - L y (P the pose part) with the dot products d_q . C_{.,i} again (the magnitude bound
+// |d_q| |y - v| alone loses about a factor of two at 1 mm); that also tightens z. Nothing here is heuristic: every
+// bound is rigorous (rounding included, midpoint-radius double arithmetic with a priori error bounds).
 //
 // This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
 // O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
@@ -76,20 +78,25 @@ class AffineInverseAction {
   bool apply(const IMat& v, AffineMatrix& out) const;
 
  private:
+  /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
+  /// @return false if the verification fails (the Neumann majorant does not converge).
+  bool majorant(const DMat& rhs, DMat& z) const;
+
   int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
   DMat c_;
   DMat e0m_, e0r_;                       ///< C J^-1(centre, g0) - I, midpoint and radius
-  std::array<DMat, kMaxDof> dm_, dr_;    ///< C dJ^-1/dt_i over the box and geometry, midpoint and radius
+  std::array<DMat, kMaxDof> dm_, dr_;    ///< C dJ^-1/dt_i over the box at the centre geometry, midpoint and radius
   double devMag_[kMaxDof];               ///< |t_i - t0_i| <=
-  EntryMat gm_, gr_;                     ///< row derivative d_e per geometry entry (at the centre pose, geometry box)
+  EntryMat gm_, gr_;                     ///< row derivative d_e per geometry entry (over the pose box and geometry box)
   RowEntryMat cg_;                       ///< (k, e): C_{k, row(e)}
-  RowEntryMat cgh_;                      ///< (k, e): |C_{k, row(e)}| h_p(e)
-  RowEntryMat rowSel_;                   ///< (j, e): h_p(e) if row(e) = j
   EntryMat alpha_;                       ///< (e, j): bound of |d_e . C_{.,j}|
   int param_[kEntries];                  ///< parameter of each entry
+  int row_[kEntries];                    ///< row of J^-1 each entry moves
   double h_[kMaxGeometryParameters];     ///< |g_p - g0_p| <=
   DMat magE_, magS_, magE0_, absC_, q_;  ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
   std::array<DMat, kMaxDof> magD_;       ///< |D_i|
+  DMat magSP_;                           ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
+  DMat magP0_;                           ///< |E0| + |P|
   EntryMat magG_;                        ///< |d_e|
   DMat ls_;                              ///< |L| |S|
 };
