@@ -608,6 +608,61 @@ TEST(UncertaintyEnclosure, SecondOrderBoundsEveryAdmissibleGeometryOnRandomBoxes
   }
 }
 
+TEST(UncertaintyEnclosure, RowMaskKeepsTheWantedComponentsBitForBit) {
+  // BoxInput::rows (the verifier passes the components still undecided): the wanted components' bounds, lower
+  // bounds and hints are exactly those of the full enclosure (every column is computed independently), also with
+  // signs handed down from a containing box; the others are left at +inf (geometry-aware path) or at a valid,
+  // looser bound (nominal path).
+  const io::RobotFile rf = test::ref6File();
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const auto method = enclosure::makeEnclosure("second_order");
+  std::mt19937_64 rng(515);
+  for (const double h : {0.0, 0.0005, 0.001}) {
+    SCOPED_TRACE("h = " + std::to_string(h));
+    const model::GoughPlatform robot(withUncertainty(h));
+    int compared = 0;
+    for (int trial = 0; trial < 24; ++trial) {
+      const double fraction = std::pow(0.5, 3 + trial % 5);
+      const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
+      enclosure::BoxInput in;
+      ws.poseView(box, true, in);
+      enclosure::ErrorBounds parent;
+      method->enclose(robot, in, parent);
+      IVec half = box;
+      const int v = trial % 6;
+      half[v] = box[v].bisect().first;
+      enclosure::BoxInput child;
+      ws.poseView(half, true, child);
+      if (trial % 2 == 0) child.knownSigns = parent.signs;
+      enclosure::ErrorBounds full, masked;
+      method->enclose(robot, child, full);
+      const unsigned mask = 1u + static_cast<unsigned>(rng() % 63u);  // a non-empty proper or full subset
+      child.rows = mask;
+      method->enclose(robot, child, masked);
+      ASSERT_EQ(masked.upper.size(), 6);
+      for (int k = 0; k < 6; ++k) {
+        if ((mask >> k) & 1u) {
+          EXPECT_EQ(masked.upper[k], full.upper[k]) << "k=" << k << " trial " << trial;
+          EXPECT_EQ(masked.lower[k], full.lower[k]) << "k=" << k << " trial " << trial;
+          if (full.componentSmear.rows() == 6 && masked.componentSmear.rows() == 6) {
+            for (int i = 0; i < 6; ++i) EXPECT_EQ(masked.componentSmear(k, i), full.componentSmear(k, i)) << k;
+          }
+          if (h > 0.0) {
+            for (int p = 0; p < robot.geometryParameterCount(); ++p)
+              EXPECT_EQ(masked.geometrySensitivity(k, p), full.geometrySensitivity(k, p)) << k << " " << p;
+          }
+          ++compared;
+        } else if (h > 0.0) {
+          EXPECT_EQ(masked.upper[k], std::numeric_limits<double>::infinity()) << "k=" << k;
+        } else {
+          EXPECT_GE(masked.upper[k], full.upper[k]) << "k=" << k;  // the first-order bound only
+        }
+      }
+    }
+    EXPECT_GT(compared, 24);
+  }
+}
+
 TEST(UncertaintyEnclosure, ErrorAtPoseEnclosesEveryGeometryAndItsSensitivitiesPointToTheWorstVertex) {
   const io::RobotFile rf = test::ref6File();
   const IVec ws = rf.workspaces.at("paper").initialBox();

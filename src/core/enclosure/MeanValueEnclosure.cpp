@@ -32,16 +32,23 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   const int vars = box.variables;
   const int params = act.parameters();
   const DMat& c = act.preconditioner();
-  // J = N C, column by column, for the columns with an entry whose sign is not known yet (from a containing box).
+  // Only the rows (components) the caller asks for: the others keep +inf.
+  auto wanted = [&](int k) { return ((box.rows >> k) & 1u) != 0; };
+  // J = N C, column by column, for the columns with an entry of a wanted row whose sign is not known yet (from a
+  // containing box).
   const SignPattern& known = box.knownSigns;
   int need[kMaxDof];
   int needed = 0;
   for (int j = 0; j < n; ++j) {
     bool all = true;
-    for (int k = 0; k < n; ++k) all = all && known.known(k * n + j);
+    for (int k = 0; k < n; ++k) all = all && (known.known(k * n + j) || !wanted(k));
     if (!all) need[needed++] = j;
   }
+  // Entries not computed (columns not needed, unknown sign): [-1, 1] stands for "sign unknown"; only signs are read
+  // from entries of rows that are not wanted.
   Interval entryOf[kMaxDof][kMaxDof];
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) entryOf[k][j] = Interval(-1.0, 1.0);
   if (needed > 0) {
     IMat cols(n, needed);
     for (int q = 0; q < needed; ++q)
@@ -71,6 +78,8 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   columns.clear();
   Interval rest[kMaxDof];
   for (int k = 0; k < n; ++k) {
+    rest[k] = Interval(0.0);
+    if (!wanted(k)) continue;
     Interval entries[kMaxDof];
     double rowSize = 0.0;
     for (int j = 0; j < n; ++j) {
@@ -80,7 +89,6 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
     double w[kMaxDof];
     int open[kMaxDof];
     int opened = 0;
-    rest[k] = Interval(0.0);
     for (int j = 0; j < n; ++j) {
       const Interval& x = entries[j];
       w[j] = x.lower() > 0.0 ? e[j] : (x.upper() < 0.0 ? -e[j] : 0.0);  // exact
@@ -130,6 +138,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   double smear[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   double largest = 0.0;
   for (int k = 0; k < n; ++k) {
+    if (!wanted(k)) continue;
     const double bound = (Interval(upper[k]) + rest[k]).upper();
     out.lower[k] = std::max(out.lower[k], lower[k]);
     if (!(bound < out.upper[k])) continue;
@@ -247,6 +256,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   DVec smear = DVec::Zero(vars);
   out.componentSmear = DMat::Zero(n, vars);
   for (int k = 0; k < n; ++k) {
+    if (!((box.rows >> k) & 1u)) continue;  // not asked for: the first-order bound above stays
     Interval rest(0.0);
     IVec v = IVec::Constant(n, Interval(0.0));
     for (int j = 0; j < n; ++j) {

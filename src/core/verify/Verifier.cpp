@@ -150,6 +150,7 @@ class Run {
     domain_.poseView(box, method_->needsGradient(), in);
     in.keepInternals = options_.monotonicity;
     in.knownSigns = track.signs;
+    in.rows = active;  // components decided on a containing box need no bound here
     enclosure::ErrorBounds bounds;
     method_->enclose(model, in, bounds);
     boxes_.fetch_add(1, std::memory_order_relaxed);
@@ -203,7 +204,8 @@ class Run {
     // bisect a geometry parameter instead (strategy (b)) when that is where the bound's width comes from.
     Track next = track;
     next.signs = bounds.signs;
-    next.upper = bounds.upper;
+    // (Components not enclosed here keep the bounds of the containing box that decided them.)
+    next.upper = track.upper.size() == n_ ? DVec(bounds.upper.cwiseMin(track.upper)) : bounds.upper;
     int geometrySplit = -1;
     if (params_ > 0 && options_.geometry_splitting != GeometrySplitting::Never && !byWidth) {
       const double excess = relativeExcess(bounds, active);
@@ -227,12 +229,12 @@ class Run {
       const int stop = stop_.load();
       if (options_.mode == Mode::Verify &&
           (stop == static_cast<int>(Stop::Witness) || stop == static_cast<int>(Stop::Sensitive))) {
-        recordUndecided(box, bounds.upper, ~0u, track);
+        recordUndecided(box, next.upper, ~0u, track);
         return;
       }
     }
     if (split < 0 && geometrySplit < 0) {
-      recordUndecided(box, bounds.upper, active, track);
+      recordUndecided(box, next.upper, active, track);
       return;
     }
     if (geometrySplit >= 0) {

@@ -38,6 +38,9 @@ struct BoxInput {
   bool keepInternals = false;  ///< ask the method to fill ErrorBounds::internals (for errorGradient)
   /// Signs of J already certified on a box containing this one (e.g. its parent); methods may skip recomputing them.
   SignPattern knownSigns;
+  /// The components the caller needs (bit k: component k). Methods may skip the others: their upper bounds are then
+  /// +inf or looser than they could be (still valid), their lower bounds 0, their hints 0.
+  unsigned rows = ~0u;
 };
 
 /// Intermediate enclosures of the preconditioned methods, kept so that derivative information (monotonicity) can
