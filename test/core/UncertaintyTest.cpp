@@ -660,6 +660,25 @@ TEST(UncertaintyEnclosure, RowMaskKeepsTheWantedComponentsBitForBit) {
       }
     }
     EXPECT_GT(compared, 24);
+    // errorAtPose (the verifier's certified point evaluations) with the same mask.
+    for (int trial = 0; trial < 8; ++trial) {
+      const DVec q = test::randomPoint(ws.initialBox(), rng);
+      IVec thin(6);
+      for (int i = 0; i < 6; ++i) thin[i] = Interval(q[i]);
+      const unsigned mask = 1u + static_cast<unsigned>(rng() % 63u);
+      IVec full, masked;
+      GMat sensFull, sensMasked;
+      ASSERT_TRUE(enclosure::errorAtPose(robot, thin, full, &sensFull));
+      ASSERT_TRUE(enclosure::errorAtPose(robot, thin, masked, &sensMasked, mask));
+      for (int k = 0; k < 6; ++k) {
+        if (!((mask >> k) & 1u)) continue;
+        EXPECT_EQ(masked[k].lower(), full[k].lower()) << k;
+        EXPECT_EQ(masked[k].upper(), full[k].upper()) << k;
+        if (h > 0.0) {
+          EXPECT_EQ(sensMasked.row(k), sensFull.row(k)) << k;
+        }
+      }
+    }
   }
 }
 

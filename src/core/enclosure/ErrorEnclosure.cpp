@@ -70,7 +70,7 @@ bool errorGradient(const ErrorBounds& bounds, const std::vector<double>& sensorE
   return true;
 }
 
-bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat* sensitivity) {
+bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat* sensitivity, unsigned rows) {
   if (sensitivity) sensitivity->resize(0, 0);
   const int dof = static_cast<int>(pose.size());
   if (model.geometryParameterCount() > 0 && model.hasGeometryUncertainty()) {
@@ -85,9 +85,12 @@ bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat
     for (int i = 0; i < dof; ++i) in.dualPose[i] = DualI(pose[i]);
     for (int i = dof; i < kMaxDof; ++i) in.dualPose[i] = DualI(Interval(0.0));
     in.hasGradient = true;
+    in.rows = rows;
     ErrorBounds b;
     MeanValueEnclosure(true).enclose(model, in, b);
-    if (b.bounded()) {
+    bool bounded = b.upper.size() == dof;
+    for (int k = 0; k < dof && bounded; ++k) bounded = !((rows >> k) & 1u) || std::isfinite(b.upper[k]);
+    if (bounded) {
       f.resize(dof);
       for (int k = 0; k < dof; ++k) f[k] = Interval(std::max(0.0, b.lower[k]), b.upper[k]);
       if (sensitivity) *sensitivity = b.geometrySensitivity;

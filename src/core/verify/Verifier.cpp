@@ -225,7 +225,7 @@ class Run {
       if (always && geometrySplit >= 0 && split >= 0 && comparable && geometryScore <= poseScore) geometrySplit = -1;
     }
     if ((split < 0 && geometrySplit < 0) || depth % std::max(1, options_.centre_check_period) == 0) {
-      checkCentre(box);
+      checkCentre(box, options_.mode == Mode::Verify ? active : ~0u);
       const int stop = stop_.load();
       if (options_.mode == Mode::Verify &&
           (stop == static_cast<int>(Stop::Witness) || stop == static_cast<int>(Stop::Sensitive))) {
@@ -411,11 +411,11 @@ class Run {
   /// When the centre is outside the domain (a box straddling the region boundary), points a quarter width away
   /// along each variable are tried instead, so that witnesses inside the region are found without descending the
   /// boundary to the precision limit.
-  void checkCentre(const IVec& box) {
+  void checkCentre(const IVec& box, unsigned active) {
     const DVec c = domain::centreOf(box);
     const IVec thin = thinBox(c);
     if (domain_.classify(thin) == domain::Containment::Inside) {
-      evaluatePoint(c, thin, box);
+      evaluatePoint(c, thin, box, true, active);
       return;
     }
     for (int i = 0; i < m_; ++i) {
@@ -427,7 +427,7 @@ class Run {
         IVec p = thin;
         p[i] = Interval(t[i]);
         if (domain_.classify(p) == domain::Containment::Inside) {
-          evaluatePoint(t, p, box);
+          evaluatePoint(t, p, box, true, active);
           return;
         }
       }
@@ -438,15 +438,18 @@ class Run {
   /// witness (exceeds for every admissible geometry) or, with uncertain geometry, an uncertainty-sensitive pose
   /// (exceeds for some admissible geometry). Max-error mode: better lower bounds (with uncertain geometry, at the
   /// geometry that the first-order terms say maximises each component there). `mayStop`: allowed to end the search.
-  void evaluatePoint(const DVec& t, const IVec& thin, const IVec& region, bool mayStop = true) {
+  void evaluatePoint(const DVec& t, const IVec& thin, const IVec& region, bool mayStop = true, unsigned active = ~0u) {
     if (domain_.classify(thin) != domain::Containment::Inside) return;
     IVec f;
     GMat sensitivity;
     const IVec pose = domain_.poseAt(t);
-    if (!enclosure::errorAtPose(model_, pose, f, params_ > 0 ? &sensitivity : nullptr)) return;
+    // Verify mode: only the components still undecided where the point lies (`active`; the others are proven below
+    // their thresholds on a box containing it, so they can give neither a witness nor a sensitive pose).
+    if (!enclosure::errorAtPose(model_, pose, f, params_ > 0 ? &sensitivity : nullptr, active)) return;
     const bool bySensitivity = params_ > 0 && sensitivity.rows() == n_ && sensitivity.cols() == params_;
     if (options_.mode == Mode::Verify) {
       for (int k = 0; k < n_; ++k) {
+        if (!((active >> k) & 1u)) continue;
         if (f[k].lower() > options_.thresholds[k]) {
           std::lock_guard<std::mutex> lock(mutex_);
           if (!haveWitness_) {
@@ -456,7 +459,10 @@ class Run {
             result_.witness_component = k;
             result_.witness_lower_bound = f[k].lower();
             result_.witness_error_lower = DVec(n_);
-            for (int j = 0; j < n_; ++j) result_.witness_error_lower[j] = f[j].lower();
+            IVec all = f;
+            const unsigned every = (1u << n_) - 1u;
+            if ((active & every) != every && !enclosure::errorAtPose(model_, pose, all)) all = f;
+            for (int j = 0; j < n_; ++j) result_.witness_error_lower[j] = all[j].lower();
           }
           if (options_.stop_at_first_witness) requestStop(Stop::Witness);
           return;
@@ -464,7 +470,7 @@ class Run {
       }
       if (!bySensitivity) return;
       for (int k = 0; k < n_; ++k) {
-        if (!(f[k].upper() > options_.thresholds[k])) continue;
+        if (!((active >> k) & 1u) || !(f[k].upper() > options_.thresholds[k])) continue;
         std::vector<double> failing;
         IVec fw;
         if (!enclosure::errorAtPose(*vertexModel(sensitivity, k, 1.0, failing), pose, fw)) continue;

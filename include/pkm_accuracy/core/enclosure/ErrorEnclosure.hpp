@@ -99,9 +99,11 @@ IVec errorFromJacobian(const IMat& jacobian, const std::vector<double>& sensorEr
 /// Certified enclosure of f_k at the poses of a (thin) pose box, by preconditioned interval Gauss elimination.
 /// lower() of each entry is a certified lower bound of the worst error at that pose (for every admissible
 /// geometry). With uncertain geometry parameters the second-order form tightens both ends, and `sensitivity` (if
-/// given) receives its estimate of d f_k / d g_p there (empty otherwise). @return false if J^-1 could not be
-/// inverted there (singular or nearly so).
-bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat* sensitivity = nullptr);
+/// given) receives its estimate of d f_k / d g_p there (empty otherwise). `rows` (bit k: component k) asks for
+/// some components only (see BoxInput::rows): the others may come back as [0, +inf]. @return false if J^-1 could
+/// not be inverted there (singular or nearly so).
+bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat* sensitivity = nullptr,
+                 unsigned rows = ~0u);
 
 /// The same in double at a nominal pose (not certified; +inf if singular).
 DVec errorAtPoseDouble(const model::RobotModel& model, const DVec& pose);
