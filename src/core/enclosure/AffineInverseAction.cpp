@@ -110,6 +110,8 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     const DMat zero = DMat::Zero(n_, n_);
     product(gm_, gr_, c_, zero, m, r);
     alpha_ = upAll(EntryMat(m.cwiseAbs() + r));
+    dcm_ = m;
+    dcr_ = r;
   }
   magE_ = upAll(DMat(magS + magL));
   magS_ = magS;
@@ -224,6 +226,10 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   const DMat lsy = upAll(DMat(ls_.lazyProduct(z)));
   const DMat ll = chProduct(gamma);
   const DMat remainder = upAll(DMat(upAll(DMat(ssy + sly)) + upAll(DMat(lsy + ll))));
+  out.dvm = dvm;
+  out.dvr = dvr;
+  out.rho = rho;
+  out.ll = ll;
   // Affine forms (N V = Y0 - sum_i D_i V dev_i - sum_p G_p V dev_p + E^2 N V). Pose terms -(D_i V)(k, j) (t_i - t0_i)
   // = -[pm +- pr] devMag tau_i: coefficient -pm devMag, the rest
   // (pr devMag and the rounding of the product) to the radius. Geometry terms (G_p V)(k, j) (g_p - g0_p) with
@@ -255,6 +261,102 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   }
   out.radius = upAll(radius);
   return out.radius.allFinite() && out.centre.allFinite();
+}
+
+int AffineInverseAction::monotoneDirections(const AffineMatrix& a, int j, const double* jSign, double* dir) const {
+  using interval::rounding::addUp;
+  using interval::rounding::subDown;
+  for (int p = 0; p < params_; ++p) dir[p] = 0.0;
+  if (a.rows != n_ || j >= a.cols || a.dvm.rows() != entries_) return 0;
+  // Per entry, the certified sign of J_{k,row(e)} (d_e . y) (0: none), with d_e . y = d_e . v + d_e . (y - v) in
+  // [dvm -+ dvr] +- rho.
+  double t[kEntries];
+  for (int e = 0; e < entries_; ++e) {
+    const double r = addUp(a.dvr(e, j), a.rho(e, j));
+    const double m = a.dvm(e, j);
+    const double sign = subDown(m, r) > 0.0 ? 1.0 : (addUp(m, r) < 0.0 ? -1.0 : 0.0);
+    t[e] = sign * jSign[row_[e]];
+  }
+  // d phi / d g_p = -(sum of those terms over p's entries): certified when they all have the same certified sign.
+  double seen[kMaxGeometryParameters];
+  for (int p = 0; p < params_; ++p) seen[p] = 2.0;  // 2: no entry yet
+  for (int e = 0; e < entries_; ++e) {
+    const int p = param_[e];
+    seen[p] = seen[p] == 2.0 ? t[e] : (seen[p] == t[e] ? seen[p] : 0.0);
+  }
+  int fixed = 0;
+  for (int p = 0; p < params_; ++p) {
+    if (seen[p] == 2.0 || seen[p] == 0.0 || !(h_[p] > 0.0)) continue;
+    dir[p] = -seen[p];
+    ++fixed;
+  }
+  return fixed;
+}
+
+double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, const double* s) const {
+  using interval::rounding::addUp;
+  using interval::rounding::subUp;
+  // L L y = sum_e C_{.,row(e)} gamma_e h_e (delta_e . L y),  L y = sum_i C_{.,i} Lambda_i,
+  // Lambda_i = sum over the entries e of row i of h_e gamma_e (delta_e . y), with gamma_e = s_p(e) on the face where
+  // s is not 0 and gamma_e in [-1, 1] elsewhere, delta_e . y in D_e = [dvm -+ (dvr + rho)] and
+  // delta_e . C_{.,i} in [dcm -+ dcr]. Midpoint-radius throughout (kGamma covers the roundings of the sums).
+  double lm[kMaxDof], lr[kMaxDof];
+  for (int i = 0; i < n_; ++i) lm[i] = lr[i] = 0.0;
+  double lmScale[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int e = 0; e < entries_; ++e) {
+    const int i = row_[e];
+    const double h = h_[param_[e]];
+    const double width = a.dvr(e, j) + a.rho(e, j);
+    const double sp = s[param_[e]];
+    if (sp != 0.0) {
+      const double t = h * sp * a.dvm(e, j);
+      lm[i] += t;
+      lmScale[i] += std::abs(t);
+      lr[i] += h * width;
+    } else {
+      lr[i] += h * (std::abs(a.dvm(e, j)) + width);
+    }
+  }
+  for (int i = 0; i < n_; ++i) lr[i] = up(lr[i] + kGamma * lmScale[i]);
+  // T_e = delta_e . L y = sum_i (delta_e . C_{.,i}) Lambda_i; then (L L y)_k = sum_e C_{k,row(e)} h_e gamma_e T_e.
+  double llm = 0.0, llr = 0.0, llScale = 0.0;
+  for (int e = 0; e < entries_; ++e) {
+    double tm = 0.0, tr = 0.0, tScale = 0.0;
+    for (int i = 0; i < n_; ++i) {
+      const double am = dcm_(e, i), ar = dcr_(e, i);
+      tm += am * lm[i];
+      tScale += std::abs(am * lm[i]);
+      tr += std::abs(am) * lr[i] + ar * (std::abs(lm[i]) + lr[i]);
+    }
+    tr = up(tr + kGamma * tScale);
+    const double ch = c_(k, row_[e]) * h_[param_[e]];
+    const double sp = s[param_[e]];
+    if (sp != 0.0) {
+      const double t = ch * sp * tm;
+      llm += t;
+      llScale += std::abs(t);
+      llr += std::abs(ch) * tr;
+    } else {
+      llr += std::abs(ch) * (std::abs(tm) + tr);
+    }
+  }
+  llr = up(llr + kGamma * llScale);
+  // The entry on the face: centre + sum_i |pose_i| + sum_p (s_p geometry_p on the face, |geometry_p| elsewhere)
+  // + (radius - |L L y| bound) + [L L y on the face].
+  double positive = subUp(a.radius(k, j), a.ll(k, j));
+  for (int i = 0; i < a.vars; ++i) positive += std::abs(a.pose[i](k, j));
+  double signedSum = 0.0, scale = 0.0;
+  for (int p = 0; p < a.params; ++p) {
+    const double g = a.geometry[j](k, p);
+    scale += std::abs(g);
+    if (s[p] != 0.0) {
+      signedSum += s[p] * g;
+    } else {
+      positive += std::abs(g);
+    }
+  }
+  positive = up(positive + kGamma * (scale + std::abs(a.centre(k, j))));
+  return addUp(addUp(addUp(a.centre(k, j), positive), signedSum), addUp(llm, llr));
 }
 
 Interval AffineInverseAction::AffineMatrix::entry(int k, int j) const {

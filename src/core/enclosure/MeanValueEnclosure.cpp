@@ -77,8 +77,10 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   static thread_local std::vector<Column> columns;
   columns.clear();
   Interval rest[kMaxDof];
+  bool magnitudeTerms[kMaxDof];  // row k has entries bounded by their magnitude (then no monotonicity for f_k)
   for (int k = 0; k < n; ++k) {
     rest[k] = Interval(0.0);
+    magnitudeTerms[k] = false;
     if (!wanted(k)) continue;
     Interval entries[kMaxDof];
     double rowSize = 0.0;
@@ -97,6 +99,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
         open[opened++] = j;
       } else {
         rest[k] += Interval(x.mag()) * Interval(e[j]);
+        magnitudeTerms[k] = true;
       }
     }
     for (int choice = 0; choice < (1 << opened); ++choice) {
@@ -119,13 +122,21 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
     lower[k] = 0.0;
   }
   double unit[kMaxDof];
-  for (std::size_t first = 0; first < columns.size(); first += static_cast<std::size_t>(n)) {
-    const int m = static_cast<int>(std::min(columns.size() - first, static_cast<std::size_t>(n)));
+  // Monotonicity in the geometry: where f_k (the largest of its columns' functions, no magnitude terms) is certified
+  // monotone in some parameters over the box and geometry, its maximum lies on the face with those parameters at
+  // their raising ends, and upperOnFace() bounds every column there. One apply per row, so that the directions
+  // common to the row's columns are known while its affine forms are at hand.
+  double onFace[kMaxDof];
+  for (int k = 0; k < n; ++k) onFace[k] = std::numeric_limits<double>::infinity();
+  double dir[kMaxGeometryParameters], common[kMaxGeometryParameters], jSign[kMaxDof];
+  for (std::size_t first = 0; first < columns.size();) {
+    const int k = columns[first].row;
+    int m = 0;
+    while (first + m < columns.size() && columns[first + m].row == k && m < n) ++m;
     IMat batch(n, m);
     for (int q = 0; q < m; ++q) batch.col(q) = columns[first + q].v;
     if (!act.apply(batch, nv)) return false;
     for (int q = 0; q < m; ++q) {
-      const int k = columns[first + q].row;
       for (int j = 0; j < m; ++j) unit[j] = j == q ? 1.0 : 0.0;
       AffineInverseAction::combine(nv, k, unit, comb);
       lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
@@ -134,12 +145,31 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
         best[k] = comb;
       }
     }
+    // Only where the bound is not good enough already (BoxInput::targets) and f_k has no magnitude terms.
+    const bool enough = box.targets.size() == n && upper[k] <= box.targets[k];
+    int directions = magnitudeTerms[k] || enough ? 0 : params;
+    for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
+    for (int q = 0; q < m && directions > 0; ++q) {
+      act.monotoneDirections(nv, q, jSign, dir);
+      directions = 0;
+      for (int p = 0; p < params; ++p) {
+        common[p] = q == 0 ? dir[p] : (common[p] == dir[p] ? dir[p] : 0.0);
+        directions += common[p] != 0.0 ? 1 : 0;
+      }
+    }
+    if (directions > 0) {
+      double largestOnFace = -std::numeric_limits<double>::infinity();
+      for (int q = 0; q < m; ++q) largestOnFace = std::max(largestOnFace, act.upperOnFace(nv, k, q, common));
+      onFace[k] = largestOnFace;
+    }
+    first += static_cast<std::size_t>(m);
   }
   double smear[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   double largest = 0.0;
   for (int k = 0; k < n; ++k) {
     if (!wanted(k)) continue;
-    const double bound = (Interval(upper[k]) + rest[k]).upper();
+    // (onFace only where there are no magnitude terms, i.e. rest = 0.)
+    const double bound = std::min((Interval(upper[k]) + rest[k]).upper(), onFace[k]);
     out.lower[k] = std::max(out.lower[k], lower[k]);
     if (!(bound < out.upper[k])) continue;
     out.upper[k] = bound;

@@ -151,6 +151,8 @@ class Run {
     in.keepInternals = options_.monotonicity;
     in.knownSigns = track.signs;
     in.rows = active;  // components decided on a containing box need no bound here
+    in.targets.resize(n_);
+    for (int k = 0; k < n_; ++k) in.targets[k] = target(k);
     enclosure::ErrorBounds bounds;
     method_->enclose(model, in, bounds);
     boxes_.fetch_add(1, std::memory_order_relaxed);

@@ -45,6 +45,10 @@ class AffineInverseAction {
     /// times the reach): with |pose| it is variable i's share of the width (bisection hints).
     std::array<DMat, kMaxDof> poseSpread;
     std::array<GMat, kMaxDof> geometry;  ///< geometry[j](k, p)
+    /// For monotoneDirections() and upperOnFace(): d_e . v_j in midpoint-radius form, rho(e, j) >= |d_e . (y_j - v_j)|
+    /// (for every d_e in its enclosure and every (t, g) of the box), and the bound of |L L y| included in radius.
+    EntryMat dvm, dvr, rho;
+    DMat ll;
     /// Enclosure of entry (k, j).
     Interval entry(int k, int j) const;
   };
@@ -77,6 +81,19 @@ class AffineInverseAction {
   /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).
   bool apply(const IMat& v, AffineMatrix& out) const;
 
+  /// Monotonicity in the geometry (the seed paper's section 4.2, for the uncertain parameters). For
+  /// phi = (N v)_k, v column j of `a`: d phi / d g_p = -sum over p's entries e of J_{k,row(e)} (d_e . y), y = N v
+  /// (each entry moves one row of J^-1). Sets dir[p] to +1 (-1) where that derivative is certified >= 0 (<= 0) over
+  /// the box and every admissible geometry, else 0; returns how many are nonzero. `jSign[i]`: the sign of J_ki
+  /// certified over the box and geometry (+1, -1; 0: unknown).
+  int monotoneDirections(const AffineMatrix& a, int j, const double* jSign, double* dir) const;
+
+  /// Upper bound of entry (k, j) over the box and the face of the geometry box where gamma_p = s[p] for every
+  /// s[p] != 0 (+1 / -1; 0: the whole range). Tighter than entry(k, j) there: the first-order terms of the fixed
+  /// parameters keep their signs, and so does |L L y|, which is then bounded as the quadratic form it is on the
+  /// face instead of term by term in magnitude.
+  double upperOnFace(const AffineMatrix& a, int k, int j, const double* s) const;
+
  private:
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
   /// @return false if the verification fails (the Neumann majorant does not converge).
@@ -90,6 +107,7 @@ class AffineInverseAction {
   EntryMat gm_, gr_;                     ///< row derivative d_e per geometry entry (over the pose box and geometry box)
   RowEntryMat cg_;                       ///< (k, e): C_{k, row(e)}
   EntryMat alpha_;                       ///< (e, j): bound of |d_e . C_{.,j}|
+  EntryMat dcm_, dcr_;                   ///< (e, j): d_e . C_{.,j}, midpoint and radius
   int param_[kEntries];                  ///< parameter of each entry
   int row_[kEntries];                    ///< row of J^-1 each entry moves
   double h_[kMaxGeometryParameters];     ///< |g_p - g0_p| <=

@@ -41,6 +41,9 @@ struct BoxInput {
   /// The components the caller needs (bit k: component k). Methods may skip the others: their upper bounds are then
   /// +inf or looser than they could be (still valid), their lower bounds 0, their hints 0.
   unsigned rows = ~0u;
+  /// Optional (empty: none), per component: a bound at or below targets[k] is good enough for the caller, so
+  /// methods may skip refinements that could only lower it further.
+  DVec targets;
 };
 
 /// Intermediate enclosures of the preconditioned methods, kept so that derivative information (monotonicity) can
