@@ -78,9 +78,11 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   columns.clear();
   Interval rest[kMaxDof];
   bool magnitudeTerms[kMaxDof];  // row k has entries bounded by their magnitude (then no monotonicity for f_k)
+  int columnsOfRow[kMaxDof];
   for (int k = 0; k < n; ++k) {
     rest[k] = Interval(0.0);
     magnitudeTerms[k] = false;
+    columnsOfRow[k] = 0;
     if (!wanted(k)) continue;
     Interval entries[kMaxDof];
     double rowSize = 0.0;
@@ -110,6 +112,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
         for (int l = 0; l < n; ++l) col.v[l] += Interval(c(l, j)) * Interval(w[j]);
       }
       columns.push_back(col);
+      ++columnsOfRow[k];
     }
   }
   out.componentSmear = DMat::Zero(n, vars);
@@ -145,9 +148,10 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
         best[k] = comb;
       }
     }
-    // Only where the bound is not good enough already (BoxInput::targets) and f_k has no magnitude terms.
+    // Only where the bound is not good enough already (BoxInput::targets), f_k has no magnitude terms, and every
+    // column of the row is in this batch.
     const bool enough = box.targets.size() == n && upper[k] <= box.targets[k];
-    int directions = magnitudeTerms[k] || enough ? 0 : params;
+    int directions = magnitudeTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
     for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
     for (int q = 0; q < m && directions > 0; ++q) {
       act.monotoneDirections(nv, q, jSign, dir);
