@@ -74,16 +74,16 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   for (int i = 0; i < n_; ++i) e0(i, i) -= Interval(1.0);
   split(e0, e0m_, e0r_);
   DMat magS = e0m_.cwiseAbs() + e0r_;
+  magSP_ = DMat::Zero(n_, n_);
   for (int i = 0; i < vars_; ++i) {
     split(multiplyMidRad(c_, poseD.d[i]), dm_[i], dr_[i]);
     devMag_[i] = box.deviation[i].mag();
-    magS += (dm_[i].cwiseAbs() + dr_[i]) * devMag_[i];
+    const DMat term = (dm_[i].cwiseAbs() + dr_[i]) * devMag_[i];
+    magS += term;
+    magSP_ += term;
   }
   magS = upAll(magS);
-  magSP_ = DMat::Zero(n_, n_);
-  for (int i = 0; i < vars_; ++i) magSP_ += (dm_[i].cwiseAbs() + dr_[i]) * devMag_[i];
   magSP_ = upAll(magSP_);
-  magP0_ = upAll(DMat(magSP_ + e0m_.cwiseAbs() + e0r_));
   for (int p = 0; p < params_; ++p) {
     h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
   }
@@ -207,7 +207,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   // pass gains a tenth of the first at a sixth of the cost per box; not worth it.)
   DMat b = rowSums(beta);
   {
-    const DMat pz = upAll(DMat(magP0_.lazyProduct(z)));
+    const DMat pz = upAll(DMat(magS_.lazyProduct(z)));  // |E0 + P| <= |S|
     const EntryMat rho2 =
         upAll(EntryMat(upAll(EntryMat(magG_.lazyProduct(pz))) + upAll(EntryMat(alpha_.lazyProduct(b)))));
     const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(absC_.lazyProduct(b)))));

@@ -88,9 +88,7 @@ bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat
     in.rows = rows;
     ErrorBounds b;
     MeanValueEnclosure(true).enclose(model, in, b);
-    bool bounded = b.upper.size() == dof;
-    for (int k = 0; k < dof && bounded; ++k) bounded = !((rows >> k) & 1u) || std::isfinite(b.upper[k]);
-    if (bounded) {
+    if (b.upper.size() == dof && b.bounded(rows)) {
       f.resize(dof);
       for (int k = 0; k < dof; ++k) f[k] = Interval(std::max(0.0, b.lower[k]), b.upper[k]);
       if (sensitivity) *sensitivity = b.geometrySensitivity;

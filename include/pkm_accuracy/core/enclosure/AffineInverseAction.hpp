@@ -114,7 +114,6 @@ class AffineInverseAction {
   DMat magE_, magS_, magE0_, absC_, q_;  ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
   std::array<DMat, kMaxDof> magD_;       ///< |D_i|
   DMat magSP_;                           ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
-  DMat magP0_;                           ///< |E0| + |P|
   EntryMat magG_;                        ///< |d_e|
   DMat ls_;                              ///< |L| |S|
 };

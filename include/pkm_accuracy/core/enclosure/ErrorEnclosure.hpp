@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -70,7 +71,13 @@ struct ErrorBounds {
   /// raises the error).
   GMat geometrySmear;
   GMat geometrySensitivity;
-  bool bounded() const { return upper.size() > 0 && upper.allFinite(); }
+  /// Every upper bound finite (of the components in `rows`, bit k: component k; see BoxInput::rows).
+  bool bounded(unsigned rows = ~0u) const {
+    if (upper.size() == 0) return false;
+    for (int k = 0; k < upper.size(); ++k)
+      if (((rows >> k) & 1u) && !std::isfinite(upper[k])) return false;
+    return true;
+  }
   EnclosureInternals internals;  ///< filled by the mean-value methods when BoxInput::keepInternals is set
   SignPattern signs;             ///< signs of J certified over the box (second-order method with geometry; else 0)
 };
