@@ -1271,9 +1271,10 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
     EXPECT_EQ(two.stats.threads, 2);
   }
 
-  // A tiny box budget: the undecided records searched on a geometry sub-box carry sub-intervals of the ranges.
+  // A tiny box budget: the undecided records searched on a geometry sub-box carry sub-intervals of the ranges (at
+  // +2%: at +3% strategy (a) now settles the box within the budget).
   verify::VerifierOptions o;
-  o.thresholds = s.max * 1.03;
+  o.thresholds = s.max * 1.02;
   o.geometry_splitting = verify::GeometrySplitting::Auto;
   o.stall_levels = 1;
   o.threads = 1;
@@ -1303,9 +1304,9 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
 }
 
 TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
-  // h = 1 mm on the 1/128 corner box at +1.5% of the sampled maxima: the single-pose bound exceeds the worst
-  // geometry by more than 1.5% at the corner (second-order remainder), so strategy (a) alone cannot conclude;
-  // bisecting the geometry does. (At +2% strategy (a) settles the box in 31 boxes, at +3% at once.)
+  // h = 1 mm on the 1/128 corner box at +1% of the sampled maxima: the single-pose bound exceeds the worst
+  // geometry by more than 1% at the corner (second-order remainder), so strategy (a) alone cannot conclude;
+  // bisecting the geometry does. (At +1.5% strategy (a) settles the box in 113 boxes, at +3% at once.)
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = cornerBox(1.0 / 128.0);
@@ -1313,14 +1314,14 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   const Sampled s = sample(u, box, 100, 809);
   std::mt19937_64 rng(810);
   verify::VerifierOptions o;
-  o.thresholds = s.max * 1.015;
+  o.thresholds = s.max * 1.01;
   o.threads = 1;
   o.geometry_splitting = verify::GeometrySplitting::Never;
   o.max_boxes = 3000;
   const auto never = verify::Verifier::run(robot, ws, o);
   EXPECT_EQ(never.verdict, Verdict::Undecided) << never.message;
   EXPECT_EQ(never.reason, UndecidedReason::BoxBudget);
-  o.max_boxes = 20000;  // a safety net: measured 91 boxes (Always) and ~800 (Auto, stall_levels = 1)
+  o.max_boxes = 20000;  // a safety net: measured 225 boxes (Always) and 3705 (Auto, stall_levels = 1)
   for (const auto mode : {verify::GeometrySplitting::Always, verify::GeometrySplitting::Auto}) {
     o.geometry_splitting = mode;
     o.stall_levels = mode == verify::GeometrySplitting::Auto ? 1 : 0;

@@ -41,16 +41,28 @@ void split(const IMat& a, M& m, M& r) {
 
 /// Rigorous midpoint-radius product: [am +- ar] [bm +- br] within [m +- r], with
 ///   r = up(|am| (br + gamma |bm|) + ar (|bm| + br))
-/// (coefficient-based products: these matrices are at most 64 x 6, too small for blocked GEMM).
+/// (plain loops, column by column with the rows innermost: these matrices are at most 64 x 6 times 6 x 6, too small
+/// for blocked GEMM, and Eigen's lazy products of dynamic sizes do not vectorise here).
 template <typename A, typename B, typename R>
 void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
-  m.noalias() = am.lazyProduct(bm);
-  const B ba = bm.cwiseAbs();
-  const B inner = br + kGamma * ba;
-  const B outer = ba + br;
-  r.noalias() = am.cwiseAbs().lazyProduct(inner);
-  r.noalias() += ar.lazyProduct(outer);
-  r = upAll(r);
+  const int rows = static_cast<int>(am.rows()), inner = static_cast<int>(am.cols()), cols = static_cast<int>(bm.cols());
+  m.setZero(rows, cols);
+  r.setZero(rows, cols);
+  for (int c = 0; c < cols; ++c) {
+    double* mc = &m(0, c);
+    double* rc = &r(0, c);
+    for (int l = 0; l < inner; ++l) {
+      const double b = bm(l, c), ba = std::abs(b);
+      const double in = br(l, c) + kGamma * ba, out = ba + br(l, c);
+      const double* a = &am(0, l);
+      const double* ad = &ar(0, l);
+      for (int i = 0; i < rows; ++i) {
+        mc[i] += a[i] * b;
+        rc[i] += std::abs(a[i]) * in + ad[i] * out;
+      }
+    }
+    for (int i = 0; i < rows; ++i) rc[i] = up(rc[i]);
+  }
 }
 
 }  // namespace
@@ -118,7 +130,27 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   magE0_ = upAll(DMat(e0m_.cwiseAbs() + e0r_));
   for (int i = 0; i < vars_; ++i) magD_[i] = upAll(DMat(dm_[i].cwiseAbs() + dr_[i]));
   magG_ = magG;
-  ls_ = upAll(DMat(magL.lazyProduct(magS)));
+  // |d_e^T S| <= |d_e^T E0| + sum_i |d_e^T D_i| |dev_i| and |S C| <= |E0 C| + sum_i |D_i C| |dev_i|: the dot products
+  // keep their cancellations, which |d_e|^T |S| and |S| |C| lose (both bounds are valid: the smaller is kept).
+  // They bound |d_e . (S y)| <= dS z (so |L S y| <= cgh dS z) and |S L y| = |S C Lambda| <= |S C| B. With
+  // X in [xm +- xr] (X = E0, D_i), |d_e^T X| <= |gm xm| + |gm| (xr + gamma |xm|) + gr (|xm| + xr), so the radius
+  // parts of all the terms add up to two products: |gm| W + gr |S| with W = sum over the terms of |dev| (xr +
+  // gamma |xm|) (the plain products' rounding errors are in the gamma part); likewise |S C| with |C| W.
+  {
+    DMat w = upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs()));
+    EntryMat ds = gm_.lazyProduct(e0m_).cwiseAbs();
+    DMat sc = e0m_.lazyProduct(c_).cwiseAbs();
+    for (int i = 0; i < vars_; ++i) {
+      w += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
+      ds += gm_.lazyProduct(dm_[i]).cwiseAbs() * devMag_[i];
+      sc += dm_[i].lazyProduct(c_).cwiseAbs() * devMag_[i];
+    }
+    w = upAll(w);
+    ds += gm_.cwiseAbs().lazyProduct(w) + gr_.lazyProduct(magS);
+    sc += w.lazyProduct(absC_);
+    dS_ = upAll(ds).cwiseMin(upAll(EntryMat(magG.lazyProduct(magS))));
+    sc_ = upAll(sc).cwiseMin(upAll(DMat(magS.lazyProduct(absC_))));
+  }
   // q_ ~ (I - |E|)^-1: any approximation; apply() verifies what it gives.
   DMat iMinus = -magE_;
   for (int i = 0; i < n_; ++i) iMinus(i, i) += 1.0;
@@ -207,23 +239,24 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   // pass gains a tenth of the first at a sixth of the cost per box; not worth it.)
   DMat b = rowSums(beta);
   {
-    const DMat pz = upAll(DMat(magS_.lazyProduct(z)));  // |E0 + P| <= |S|
-    const EntryMat rho2 =
-        upAll(EntryMat(upAll(EntryMat(magG_.lazyProduct(pz))) + upAll(EntryMat(alpha_.lazyProduct(b)))));
+    const DMat pz = upAll(DMat(magS_.lazyProduct(z)));         // |E0 + P| <= |S|
+    const EntryMat dsz = upAll(EntryMat(dS_.lazyProduct(z)));  // >= |d_e . (S y)|
+    const EntryMat rho2 = upAll(EntryMat(dsz + upAll(EntryMat(alpha_.lazyProduct(b)))));
     const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(absC_.lazyProduct(b)))));
     rho = rho.cwiseMin(rho2);
     z = z.cwiseMin(z2);
+    out.sigma = upAll(EntryMat(dS_.lazyProduct(z)));
     beta = upAll(EntryMat(magDV + rho));
     b = rowSums(beta);
   }
   // Gamma = alpha B;  L L Y <= cgh Gamma.
   const EntryMat gamma = upAll(EntryMat(alpha_.lazyProduct(b)));
   // E^2 Y = S S Y + S L Y + L S Y + L L Y (S: pose part with E0, L: geometry part):
-  //   |S S y| <= |S| |S| z;   |S L y| <= |S| |L y| <= |S| |C| B (the dot products d_e . y keep their cancellations);
-  //   |L S y| <= |L| |S| z;   |L L y| <= cgh Gamma.
+  //   |S S y| <= |S| |S| z;   |S L y| = |S C Lambda| <= |S C| B (the dot products d_e . y keep their cancellations);
+  //   |L S y| <= cgh |d_e . (S y)| <= cgh dS z;   |L L y| <= cgh Gamma.
   const DMat ssy = upAll(DMat(magS_.lazyProduct(upAll(DMat(magS_.lazyProduct(z))))));
-  const DMat sly = upAll(DMat(magS_.lazyProduct(upAll(DMat(absC_.lazyProduct(b))))));
-  const DMat lsy = upAll(DMat(ls_.lazyProduct(z)));
+  const DMat sly = upAll(DMat(sc_.lazyProduct(b)));
+  const DMat lsy = chProduct(out.sigma);
   const DMat ll = chProduct(gamma);
   const DMat remainder = upAll(DMat(upAll(DMat(ssy + sly)) + upAll(DMat(lsy + ll))));
   out.dvm = dvm;
@@ -295,49 +328,79 @@ int AffineInverseAction::monotoneDirections(const AffineMatrix& a, int j, const 
 
 double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, const double* s) const {
   using interval::rounding::addUp;
+  using interval::rounding::subDown;
   using interval::rounding::subUp;
-  // L L y = sum_e C_{.,row(e)} gamma_e h_e (delta_e . L y),  L y = sum_i C_{.,i} Lambda_i,
-  // Lambda_i = sum over the entries e of row i of h_e gamma_e (delta_e . y), with gamma_e = s_p(e) on the face where
-  // s is not 0 and gamma_e in [-1, 1] elsewhere, delta_e . y in D_e = [dvm -+ (dvr + rho)] and
-  // delta_e . C_{.,i} in [dcm -+ dcr]. Midpoint-radius throughout (kGamma covers the roundings of the sums).
-  double lm[kMaxDof], lr[kMaxDof];
-  for (int i = 0; i < n_; ++i) lm[i] = lr[i] = 0.0;
-  double lmScale[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  // L L y = sum_e C_{.,row(e)} gamma_e h_e T_e with T_e = delta_e . L y = sum_i (delta_e . C_{.,i}) Lambda_i,
+  // Lambda_i = sum over the entries e of row i of h_e gamma_e u_e, u_e = delta_e . y; gamma_e = s_p(e) on the face
+  // where s is not 0 and in [-1, 1] elsewhere, delta_e . C_{.,i} in [dcm -+ dcr]. Midpoint-radius throughout (kGamma
+  // covers the roundings of the sums). u_e starts from [dvm -+ (dvr + rho)] and is refined once through
+  //   u_e = delta_e . v - delta_e . (S y) - T_e   (y - v = -(E0 + P) y - L y),  |delta_e . (S y)| <= sigma,
+  // with T_e from the first u: on the face T_e keeps the signs of its first-order part, so the width of u drops from
+  // first to second order in h (with every parameter free it is the refinement apply() already made).
+  double um[kEntries], ur[kEntries], tm[kEntries], tr[kEntries];
   for (int e = 0; e < entries_; ++e) {
-    const int i = row_[e];
-    const double h = h_[param_[e]];
-    const double width = a.dvr(e, j) + a.rho(e, j);
-    const double sp = s[param_[e]];
-    if (sp != 0.0) {
-      const double t = h * sp * a.dvm(e, j);
-      lm[i] += t;
-      lmScale[i] += std::abs(t);
-      lr[i] += h * width;
-    } else {
-      lr[i] += h * (std::abs(a.dvm(e, j)) + width);
-    }
+    um[e] = a.dvm(e, j);
+    ur[e] = addUp(a.dvr(e, j), a.rho(e, j));
   }
-  for (int i = 0; i < n_; ++i) lr[i] = up(lr[i] + kGamma * lmScale[i]);
-  // T_e = delta_e . L y = sum_i (delta_e . C_{.,i}) Lambda_i; then (L L y)_k = sum_e C_{k,row(e)} h_e gamma_e T_e.
+  double lm[kMaxDof], lr[kMaxDof];
+  auto lambdas = [&]() {
+    double scale[kMaxDof];
+    for (int i = 0; i < n_; ++i) lm[i] = lr[i] = scale[i] = 0.0;
+    for (int e = 0; e < entries_; ++e) {
+      const int i = row_[e];
+      const double h = h_[param_[e]];
+      const double sp = s[param_[e]];
+      if (sp != 0.0) {
+        const double t = h * sp * um[e];
+        lm[i] += t;
+        scale[i] += std::abs(t);
+        lr[i] += h * ur[e];
+      } else {
+        lr[i] += h * (std::abs(um[e]) + ur[e]);
+      }
+    }
+    for (int i = 0; i < n_; ++i) lr[i] = up(lr[i] + kGamma * scale[i]);
+  };
+  auto dots = [&]() {
+    for (int e = 0; e < entries_; ++e) {
+      double m = 0.0, r = 0.0, scale = 0.0;
+      for (int i = 0; i < n_; ++i) {
+        const double am = dcm_(e, i), ar = dcr_(e, i);
+        m += am * lm[i];
+        scale += std::abs(am * lm[i]);
+        r += std::abs(am) * lr[i] + ar * (std::abs(lm[i]) + lr[i]);
+      }
+      tm[e] = m;
+      tr[e] = up(r + kGamma * scale);
+    }
+  };
+  lambdas();
+  dots();
+  for (int e = 0; e < entries_; ++e) {
+    const double m1 = a.dvm(e, j) - tm[e];
+    const double r1 = up(a.dvr(e, j) + a.sigma(e, j) + tr[e] + kGamma * (std::abs(a.dvm(e, j)) + std::abs(tm[e])));
+    // Both enclose u_e: intersect them.
+    const double lo = std::max(subDown(um[e], ur[e]), subDown(m1, r1));
+    const double hi = std::min(addUp(um[e], ur[e]), addUp(m1, r1));
+    if (!(lo <= hi)) continue;  // cannot happen (both contain u_e) unless NaN; keep the first
+    const double mid = 0.5 * (lo + hi);
+    um[e] = mid;
+    ur[e] = up(std::max(subUp(mid, lo), subUp(hi, mid)));
+  }
+  lambdas();
+  dots();
+  // (L L y)_k = sum_e C_{k,row(e)} h_e gamma_e T_e.
   double llm = 0.0, llr = 0.0, llScale = 0.0;
   for (int e = 0; e < entries_; ++e) {
-    double tm = 0.0, tr = 0.0, tScale = 0.0;
-    for (int i = 0; i < n_; ++i) {
-      const double am = dcm_(e, i), ar = dcr_(e, i);
-      tm += am * lm[i];
-      tScale += std::abs(am * lm[i]);
-      tr += std::abs(am) * lr[i] + ar * (std::abs(lm[i]) + lr[i]);
-    }
-    tr = up(tr + kGamma * tScale);
     const double ch = c_(k, row_[e]) * h_[param_[e]];
     const double sp = s[param_[e]];
     if (sp != 0.0) {
-      const double t = ch * sp * tm;
+      const double t = ch * sp * tm[e];
       llm += t;
       llScale += std::abs(t);
-      llr += std::abs(ch) * tr;
+      llr += std::abs(ch) * tr[e];
     } else {
-      llr += std::abs(ch) * (std::abs(tm) + tr);
+      llr += std::abs(ch) * (std::abs(tm[e]) + tr[e]);
     }
   }
   llr = up(llr + kGamma * llScale);

@@ -7,14 +7,17 @@
 // where every first-order term is exact per variable (the cancellations across legs are kept, unlike interval
 // coefficients, which widen every entry of E independently). The remainder splits E = S + L, S the pose part
 // (including E0) and L the geometry part, and bounds E^2 N v = S S y + S L y + L S y + L L y (y = N v) with
-//   |S S y| <= |S| |S| z,  |L S y| <= |L| |S| z,  z >= |y| from (I - |E|) z >= |v| (verified, so rho(|E|) < 1),
-//   |S L y| <= |S| |C| B  (L y keeps its cancellations: B_j = sum over row j's parameters of |d_p . y| h_p),
+//   |S S y| <= |S| |S| z,  z >= |y| from (I - |E|) z >= |v| (verified, so rho(|E|) < 1),
+//   |L S y| <= sum_p |C_{.,i(p)}| h_p |d_p^T S| z  (|d_p^T S| <= |d_p^T E0| + sum_i |d_p^T D_i| |t_i - t0_i|),
+//   |S L y| <= |S C| B  (L y keeps its cancellations: B_j = sum over row j's parameters of |d_p . y| h_p),
 // and L L y through the structure of L: each parameter moves one row i of J^-1 (G_p = C e_i d_p^T, d_p the
 // derivative of that row), so (L L y)_k = sum_{p,q} C_ki(p) (d_p . C_{.,i(q)}) (d_q . y) dev_p dev_q keeps the
 // cancellations inside the dot products; |d_q . y| <= |d_q . v| + |d_q . (y - v)|, the last bounded through
 // y - v = -(E0 + P) y - L y (P the pose part) with the dot products d_q . C_{.,i} again (the magnitude bound
-// |d_q| |y - v| alone loses about a factor of two at 1 mm); that also tightens z. Nothing here is heuristic: every
-// bound is rigorous (rounding included, midpoint-radius double arithmetic with a priori error bounds).
+// |d_q| |y - v| alone loses about a factor of two at 1 mm); that also tightens z. On a face of the geometry box
+// (upperOnFace) d_q . y is refined once more through the same identity, with the fixed parameters' signs kept. Nothing
+// here is heuristic: every bound is rigorous (rounding included, midpoint-radius double arithmetic with a priori error
+// bounds).
 //
 // This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
 // O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
@@ -48,6 +51,7 @@ class AffineInverseAction {
     /// For monotoneDirections() and upperOnFace(): d_e . v_j in midpoint-radius form, rho(e, j) >= |d_e . (y_j - v_j)|
     /// (for every d_e in its enclosure and every (t, g) of the box), and the bound of |L L y| included in radius.
     EntryMat dvm, dvr, rho;
+    EntryMat sigma;  ///< sigma(e, j) >= |d_e . ((E0 + P) y_j)| (the pose part of E applied to y)
     DMat ll;
     /// Enclosure of entry (k, j).
     Interval entry(int k, int j) const;
@@ -115,7 +119,8 @@ class AffineInverseAction {
   std::array<DMat, kMaxDof> magD_;       ///< |D_i|
   DMat magSP_;                           ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
   EntryMat magG_;                        ///< |d_e|
-  DMat ls_;                              ///< |L| |S|
+  EntryMat dS_;                          ///< (e, l): >= |d_e^T S|_l, S = E0 + P
+  DMat sc_;                              ///< >= |S C|
 };
 
 }  // namespace enclosure
