@@ -130,6 +130,20 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
       const DVec& p = r.max_argmax[k];
       for (int i = 0; i < 6 && i < p.size(); ++i) out.lower_bound_poses[6 * k + static_cast<std::size_t>(i)] = p[i];
     }
+    // With uncertain geometry: the geometry attaining each lower bound. A component whose bound holds for every
+    // geometry (the verifier leaves its row empty) is attained by any: the centre geometry is reported.
+    const int params = model.geometryParameterCount();
+    if (params > 0 && r.max_argmax_geometry.size() == 6) {
+      const auto P = static_cast<std::size_t>(params);
+      out.lower_bound_geometries.assign(6 * P, 0.0);
+      for (std::size_t k = 0; k < 6; ++k) {
+        const std::vector<double>& g = r.max_argmax_geometry[k];
+        for (std::size_t p = 0; p < P; ++p) {
+          out.lower_bound_geometries[P * k + p] =
+              g.size() == P ? g[p] : model.geometryParameterCentre(static_cast<int>(p));
+        }
+      }
+    }
   } else {
     if (r.verdict == verify::Verdict::Safe) out.upper_bound = q.thresholds;
     if (r.witness_error_lower.size() == 6) copy6(r.witness_error_lower, out.lower_bound);

@@ -69,6 +69,7 @@ void fillCommonResponse(const Outcome& o, Response& res) {
     res.witness_error[k] = o.witness_error[k];
   }
   res.converged = o.converged;
+  res.lower_bound_geometries = o.lower_bound_geometries;
   res.has_witness = o.has_witness;
   res.witness_component = o.witness_component;
   res.boxes = o.boxes;

@@ -4,7 +4,8 @@
 // geometry) but UNDECIDED, reason "uncertainty_sensitive", and the response names the pose, its region and the
 // failing / passing geometries (in the order of ~describe's geometry_parameters). The geometries are checked
 // independently: the robot rebuilt from config/ref6.yaml with them, evaluated in double (worstErrorAt). The
-// geometry_splitting / stall_levels options reach the verifier (geometry_switches / geometry_splits).
+// geometry_splitting / stall_levels options reach the verifier (geometry_switches / geometry_splits). In max_error mode
+// every lower bound comes with the geometry attaining it (lower_bound_geometries).
 #include <mutex>
 #include <string>
 #include <vector>
@@ -224,6 +225,39 @@ TEST(Uncertainty, GeometrySplittingOptionsReachTheVerifier) {
   r = verify(req);
   EXPECT_TRUE(r.success) << r.message;
   EXPECT_EQ(r.verdict, "SAFE") << r.message;
+}
+
+TEST(Uncertainty, MaxErrorReportsTheGeometryOfEveryLowerBound) {
+  // Max-error over the sub-box and every admissible geometry: row k of lower_bound_geometries is an admissible
+  // geometry for which component k reaches lower_bound[k] at row k of lower_bound_poses (checked in double with the
+  // robot rebuilt from config/ref6.yaml with it). The dx bound is above the nominal robot's maximum, so for dx it is
+  // not the nominal geometry that attains it.
+  auto req = smallRequest(kNone, "max_error");
+  req.alpha = 0.02;
+  req.threads = 1;
+  const auto r = verify(req);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.reason, "no_thresholds") << r.message;
+  const std::size_t params = parameterNames().size();
+  ASSERT_EQ(r.lower_bound_poses.size(), 36u);
+  ASSERT_EQ(r.lower_bound_geometries.size(), 6 * params);
+  for (std::size_t k = 0; k < 6; ++k) {
+    std::array<double, 6> pose{};
+    for (std::size_t i = 0; i < 6; ++i) pose[i] = r.lower_bound_poses[6 * k + i];
+    EXPECT_TRUE(poseInWorkspace(pose, req)) << k;
+    const std::vector<double> geometry(
+        r.lower_bound_geometries.begin() + static_cast<std::ptrdiff_t>(params * k),
+        r.lower_bound_geometries.begin() + static_cast<std::ptrdiff_t>(params * (k + 1)));
+    const double attained = errorAt(robotWith(geometry), pose, static_cast<int>(k));
+    EXPECT_GT(r.lower_bound[k], 0.0) << k;
+    EXPECT_GE(attained, r.lower_bound[k] * (1.0 - 1e-9)) << k;
+    EXPECT_LE(attained, r.upper_bound[k]) << k;
+  }
+  EXPECT_GT(r.lower_bound[0], 1.10e-4);  // above the nominal maximum (~1.096e-4 m)
+  // Verify mode: empty.
+  const auto v = verify(smallRequest(kSensitive));
+  ASSERT_TRUE(v.success) << v.message;
+  EXPECT_TRUE(v.lower_bound_geometries.empty());
 }
 
 }  // namespace

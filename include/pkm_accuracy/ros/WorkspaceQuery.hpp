@@ -110,6 +110,9 @@ struct WorkspaceOutcome {
   bool converged = false;
   std::vector<double> lower_bound_poses;  ///< max_error: 6 x 6 row-major (row k: pose attaining lower_bound[k])
   std::vector<double> lower_bound_times;  ///< trajectory, max_error: 6 times (s) attaining lower_bound[k]
+  /// max_error with geometry parameters: 6 x P row-major (row k: an admissible geometry, one value per parameter,
+  /// attaining lower_bound[k] at row k of lower_bound_poses / at lower_bound_times[k]); empty otherwise.
+  std::vector<double> lower_bound_geometries;
   bool has_witness = false;
   std::array<double, 6> witness_pose{};  ///< x, y, z (m), roll, pitch, yaw (rad)
   double witness_t = 0.0;                ///< trajectory: time of the witness (s)
