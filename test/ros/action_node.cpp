@@ -15,9 +15,9 @@
 #include <actionlib/client/simple_action_client.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
-#include <ros/serialization.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "ActionHelpers.hpp"
 #include "VerifyHelpers.hpp"
 #include "pkm_accuracy/VerifyWorkspaceAction.h"
 #include "pkm_accuracy/ros/VerifyWorkspaceConversion.hpp"
@@ -27,31 +27,12 @@ namespace {
 using namespace pkm_accuracy_test;  // NOLINT(build/namespaces)
 using pkm_accuracy::VerifyWorkspaceAction;
 using pkm_accuracy::VerifyWorkspaceFeedback;
-using pkm_accuracy::VerifyWorkspaceFeedbackConstPtr;
 using pkm_accuracy::VerifyWorkspaceGoal;
 using pkm_accuracy::VerifyWorkspaceResult;
 using Client = actionlib::SimpleActionClient<VerifyWorkspaceAction>;
 using State = actionlib::SimpleClientGoalState;
 
 constexpr const char* kAction = "/pkm_accuracy/verify_workspace";
-
-template <class M>
-std::vector<std::uint8_t> bytes(const M& m) {
-  std::vector<std::uint8_t> b(ros::serialization::serializationLength(m));
-  ros::serialization::OStream out(b.data(), static_cast<std::uint32_t>(b.size()));
-  ros::serialization::serialize(out, m);
-  return b;
-}
-
-/// A message of another type with the same definition (same checksum, hence the same wire format).
-template <class To, class From>
-To convert(const From& from) {
-  std::vector<std::uint8_t> b = bytes(from);
-  To to;
-  ros::serialization::IStream in(b.data(), static_cast<std::uint32_t>(b.size()));
-  ros::serialization::deserialize(in, to);
-  return to;
-}
 
 VerifyWorkspaceGoal goalOf(const VerifyWorkspace::Request& r) { return convert<VerifyWorkspaceGoal>(r); }
 
@@ -67,28 +48,7 @@ std::unique_ptr<Client> g_client;  // created in main() after ros::init, destroy
 
 Client& client() { return *g_client; }
 
-/// Records the feedback of a goal.
-struct FeedbackLog {
-  std::mutex mutex;
-  std::vector<VerifyWorkspaceFeedback> got;
-  Client::SimpleFeedbackCallback callback() {
-    return [this](const VerifyWorkspaceFeedbackConstPtr& f) {
-      std::lock_guard<std::mutex> lock(mutex);
-      got.push_back(*f);
-    };
-  }
-  bool waitForBoxes(double timeout) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
-    while (ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!got.empty() && got.back().boxes > 0) return true;
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return false;
-  }
-};
+using Feedbacks = pkm_accuracy_test::FeedbackLog<VerifyWorkspaceFeedback>;
 
 /// The last ~boxes message.
 class Boxes {
@@ -156,58 +116,14 @@ TEST(Action, GoalAndResultAreTheServicesRequestAndResponse) {
   r.stall_levels = 14;
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
-  pkm_accuracy::ros_layer::WorkspaceOutcome o;
-  o.success = true;
-  o.message = "m";
-  o.busy = true;
-  o.job_id = 7;
-  o.verdict = "UNSAFE";
-  o.reason = "r";
-  for (std::size_t k = 0; k < 6; ++k) {
-    o.lower_bound[k] = 1.0 + static_cast<double>(k);
-    o.upper_bound[k] = 2.0 + static_cast<double>(k);
-    o.witness_pose[k] = 3.0 + static_cast<double>(k);
-    o.witness_error[k] = 4.0 + static_cast<double>(k);
-    o.undecided_min[k] = 5.0 + static_cast<double>(k);
-    o.undecided_max[k] = 6.0 + static_cast<double>(k);
-  }
-  o.converged = true;
-  o.lower_bound_poses.assign(36, 0.5);
-  o.has_witness = true;
-  o.witness_component = 3;
-  o.boxes = 8;
-  o.max_depth = 9;
-  o.threads = 10;
-  o.seconds = 11.0;
-  o.safe_fraction = 0.1;
-  o.unsafe_fraction = 0.2;
-  o.undecided_fraction = 0.3;
-  o.outside_fraction = 0.4;
-  o.undecided_boxes = 12;
-  o.undecided_boxes_recorded = 13;
-  o.geometry_switches = 14;
-  o.geometry_splits = 15;
-  o.sensitive_poses = 16;
-  o.sensitive.component = 2;
-  o.sensitive.failing_lower = 17.5;
-  o.sensitive.failing_geometry = {18.5, 19.5};
-  o.sensitive.passing_geometry = {20.5, 21.5};
-  o.sensitive.passing_upper = 22.5;
-  o.sensitive.passes_all = true;
-  for (std::size_t k = 0; k < 6; ++k) {
-    o.sensitive.pose[k] = 23.0 + static_cast<double>(k);
-    o.sensitive.region.lo[k] = 24.0 + static_cast<double>(k);
-    o.sensitive.region.hi[k] = 25.0 + static_cast<double>(k);
-  }
-  o.sensitive.t = 26.5;
-  o.sensitive.t_start = 27.5;
-  o.sensitive.t_end = 28.5;
+  const pkm_accuracy::ros_layer::WorkspaceOutcome o = filledOutcome();
   VerifyWorkspace::Response res;
   VerifyWorkspaceResult result;
   pkm_accuracy::ros_layer::toResponse(o, res);
   pkm_accuracy::ros_layer::toResult(o, result);
   EXPECT_EQ(bytes(result), bytes(res));
   // The geometric-uncertainty fields reach the response.
+  EXPECT_EQ(res.lower_bound_geometries, (std::vector<double>{29.5, 30.5, 31.5}));
   EXPECT_EQ(res.geometry_switches, 14u);
   EXPECT_EQ(res.geometry_splits, 15u);
   EXPECT_EQ(res.sensitive_poses, 16u);
@@ -276,7 +192,7 @@ TEST(Action, InvalidGoalsAreRejectedNamingTheField) {
 TEST(Action, FeedbackSharedJobLimitAndPromptCancelWithThePartialResult) {
   ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
   Boxes boxes;
-  FeedbackLog log;
+  Feedbacks log;
   const ros::WallTime started = ros::WallTime::now();
   client().sendGoal(longGoal(), Client::SimpleDoneCallback(), Client::SimpleActiveCallback(), log.callback());
   ASSERT_TRUE(log.waitForBoxes(15.0)) << "no feedback with boxes > 0";
@@ -352,7 +268,7 @@ TEST(Action, FeedbackSharedJobLimitAndPromptCancelWithThePartialResult) {
 
 TEST(Action, CancelServiceAbortsARunningGoal) {
   ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
-  FeedbackLog log;
+  Feedbacks log;
   client().sendGoal(longGoal(), Client::SimpleDoneCallback(), Client::SimpleActiveCallback(), log.callback());
   ASSERT_TRUE(log.waitForBoxes(15.0));
   const auto c = cancel(0);
