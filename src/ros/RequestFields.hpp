@@ -53,6 +53,37 @@ bool thresholds(const Array& requested, bool maxError, std::array<double, 6>& ou
   return true;
 }
 
+/// `mode`: "" or "verify" (Verify), "max_error" (MaxError).
+inline bool mode(const std::string& requested, QueryMode& out, std::string& error) {
+  if (requested.empty() || requested == "verify") {
+    out = QueryMode::Verify;
+  } else if (requested == "max_error") {
+    out = QueryMode::MaxError;
+  } else {
+    error = "mode: expected \"verify\", \"max_error\" or \"\" (verify), got \"" + requested + "\"";
+    return false;
+  }
+  return true;
+}
+
+/// The options the workspace and trajectory requests (and goals) share, after `mode`: thresholds, alpha,
+/// time_budget, threads, method, geometry_splitting, stall_levels (min_width differs in unit: the caller reads it).
+/// @return false with `error` naming the field.
+template <class Request>
+bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQuery& q, std::string& error) {
+  if (!thresholds(req.thresholds, q.mode == QueryMode::MaxError, q.thresholds, q.has_thresholds, error)) return false;
+  if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", q.alpha, error) ||
+      !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)",
+              q.time_budget, error)) {
+    return false;
+  }
+  if (!threads(req.threads, error)) return false;
+  q.threads = req.threads;
+  if (!method(req.method, defaults.method, q.method, error)) return false;
+  return geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) &&
+         stallLevels(req.stall_levels, q.stall_levels, error);
+}
+
 /// The fields that the workspace and trajectory responses, action results and the ~verdict message share, from a
 /// job's outcome.
 template <class Response, class Outcome>

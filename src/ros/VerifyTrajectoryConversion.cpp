@@ -79,33 +79,12 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
             "\" (waypoints in other frames are not supported by /verify_trajectory yet), got \"" + req.frame_id + "\"";
     return false;
   }
-  if (req.mode.empty() || req.mode == VerifyTrajectory::Request::MODE_VERIFY) {
-    q.mode = QueryMode::Verify;
-  } else if (req.mode == VerifyTrajectory::Request::MODE_MAX_ERROR) {
-    q.mode = QueryMode::MaxError;
-  } else {
-    error = "mode: expected \"verify\", \"max_error\" or \"\" (verify), got \"" + req.mode + "\"";
-    return false;
-  }
+  if (!fields::mode(req.mode, q.mode, error)) return false;
   if (!readWaypoints(req, q.trajectory, error)) return false;
-
-  if (!fields::thresholds(req.thresholds, q.mode == QueryMode::MaxError, q.thresholds, q.has_thresholds, error)) {
-    return false;
-  }
-
+  if (!fields::sharedOptions(req, defaults, q, error)) return false;
   // min_width is a duration (s) here; the node's ~default_min_width (m / rad, for workspaces) does not apply.
-  if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", q.alpha, error) ||
-      !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)",
-              q.time_budget, error) ||
-      !option(req.min_width, 0.0, "min_width", "a finite number >= 0 (s, 0 = the verifier's choice)", q.min_width,
+  if (!option(req.min_width, 0.0, "min_width", "a finite number >= 0 (s, 0 = the verifier's choice)", q.min_width,
               error)) {
-    return false;
-  }
-  if (!fields::threads(req.threads, error)) return false;
-  q.threads = req.threads;
-  if (!fields::method(req.method, defaults.method, q.method, error)) return false;
-  if (!fields::geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) ||
-      !fields::stallLevels(req.stall_levels, q.stall_levels, error)) {
     return false;
   }
   out = q;

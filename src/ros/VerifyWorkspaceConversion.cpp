@@ -122,14 +122,7 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
                  WorkspaceQuery& out, std::string& error) {
   WorkspaceQuery q;
   q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
-  if (req.mode.empty() || req.mode == VerifyWorkspace::Request::MODE_VERIFY) {
-    q.mode = QueryMode::Verify;
-  } else if (req.mode == VerifyWorkspace::Request::MODE_MAX_ERROR) {
-    q.mode = QueryMode::MaxError;
-  } else {
-    error = "mode: expected \"verify\", \"max_error\" or \"\" (verify), got \"" + req.mode + "\"";
-    return false;
-  }
+  if (!fields::mode(req.mode, q.mode, error)) return false;
   if (!readRegion(req, q.workspace.position, error)) return false;
 
   const double angle_min[3] = {req.roll_min, req.pitch_min, req.yaw_min};
@@ -144,22 +137,9 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
     q.workspace.angle_max[k] = angle_max[k];
   }
 
-  if (!fields::thresholds(req.thresholds, q.mode == QueryMode::MaxError, q.thresholds, q.has_thresholds, error)) {
-    return false;
-  }
-
-  if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", q.alpha, error) ||
-      !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)",
-              q.time_budget, error) ||
-      !option(req.min_width, defaults.min_width, "min_width", "a finite number >= 0 (m / rad, 0 = default)",
+  if (!fields::sharedOptions(req, defaults, q, error)) return false;
+  if (!option(req.min_width, defaults.min_width, "min_width", "a finite number >= 0 (m / rad, 0 = default)",
               q.min_width, error)) {
-    return false;
-  }
-  if (!fields::threads(req.threads, error)) return false;
-  q.threads = req.threads;
-  if (!fields::method(req.method, defaults.method, q.method, error)) return false;
-  if (!fields::geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) ||
-      !fields::stallLevels(req.stall_levels, q.stall_levels, error)) {
     return false;
   }
   out = q;
