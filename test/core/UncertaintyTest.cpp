@@ -1221,7 +1221,7 @@ TEST(UncertaintyEnclosure, MonotoneFaceBoundHoldsAndTightensNearTheWorstCorner) 
 }
 
 TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
-  // h = 1 mm on the 1/32 corner box: at +3% of the sampled maxima strategy (a) alone needs ~550 boxes and the
+  // h = 1 mm on the 1/32 corner box: at +3% of the sampled maxima strategy (a) alone needs ~170 boxes and the
   // stalled boxes (stall_levels = 1) switch to bisecting the geometry. (At +6% the enclosures settle the box in 15
   // boxes, before anything can stall.)
   const Uncertain u(withUncertainty(0.001));

@@ -128,7 +128,6 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   magE_ = upAll(DMat(magS + magL));
   magS_ = magS;
   magE0_ = upAll(DMat(e0m_.cwiseAbs() + e0r_));
-  for (int i = 0; i < vars_; ++i) magD_[i] = upAll(DMat(dm_[i].cwiseAbs() + dr_[i]));
   magG_ = magG;
   // |d_e^T S| <= |d_e^T E0| + sum_i |d_e^T D_i| |dev_i| and |S C| <= |E0 C| + sum_i |D_i C| |dev_i|: the dot products
   // keep their cancellations, which |d_e|^T |S| and |S| |C| lose (both bounds are valid: the smaller is kept).

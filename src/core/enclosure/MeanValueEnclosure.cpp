@@ -32,8 +32,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   const int vars = box.variables;
   const int params = act.parameters();
   const DMat& c = act.preconditioner();
-  // Only the rows (components) the caller asks for: the others keep +inf.
-  auto wanted = [&](int k) { return ((box.rows >> k) & 1u) != 0; };
+  // Only the rows (components) the caller asks for (box.wants): the others keep +inf.
   // J = N C, column by column, for the columns with an entry of a wanted row whose sign is not known yet (from a
   // containing box).
   const SignPattern& known = box.knownSigns;
@@ -41,7 +40,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   int needed = 0;
   for (int j = 0; j < n; ++j) {
     bool all = true;
-    for (int k = 0; k < n; ++k) all = all && (known.known(k * n + j) || !wanted(k));
+    for (int k = 0; k < n; ++k) all = all && (known.known(k * n + j) || !box.wants(k));
     if (!all) need[needed++] = j;
   }
   // Entries not computed (columns not needed, unknown sign): [-1, 1] stands for "sign unknown"; only signs are read
@@ -83,7 +82,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
     rest[k] = Interval(0.0);
     magnitudeTerms[k] = false;
     columnsOfRow[k] = 0;
-    if (!wanted(k)) continue;
+    if (!box.wants(k)) continue;
     Interval entries[kMaxDof];
     double rowSize = 0.0;
     for (int j = 0; j < n; ++j) {
@@ -171,7 +170,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   double smear[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   double largest = 0.0;
   for (int k = 0; k < n; ++k) {
-    if (!wanted(k)) continue;
+    if (!box.wants(k)) continue;
     // (onFace only where there are no magnitude terms, i.e. rest = 0.)
     const double bound = std::min((Interval(upper[k]) + rest[k]).upper(), onFace[k]);
     out.lower[k] = std::max(out.lower[k], lower[k]);
@@ -290,7 +289,7 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   DVec smear = DVec::Zero(vars);
   out.componentSmear = DMat::Zero(n, vars);
   for (int k = 0; k < n; ++k) {
-    if (!((box.rows >> k) & 1u)) continue;  // not asked for: the first-order bound above stays
+    if (!box.wants(k)) continue;  // not asked for: the first-order bound above stays
     Interval rest(0.0);
     IVec v = IVec::Constant(n, Interval(0.0));
     for (int j = 0; j < n; ++j) {

@@ -116,7 +116,6 @@ class AffineInverseAction {
   int row_[kEntries];                    ///< row of J^-1 each entry moves
   double h_[kMaxGeometryParameters];     ///< |g_p - g0_p| <=
   DMat magE_, magS_, magE0_, absC_, q_;  ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
-  std::array<DMat, kMaxDof> magD_;       ///< |D_i|
   DMat magSP_;                           ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
   EntryMat magG_;                        ///< |d_e|
   EntryMat dS_;                          ///< (e, l): >= |d_e^T S|_l, S = E0 + P

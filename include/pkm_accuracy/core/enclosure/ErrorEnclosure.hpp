@@ -42,6 +42,8 @@ struct BoxInput {
   /// The components the caller needs (bit k: component k). Methods may skip the others: their upper bounds are then
   /// +inf or looser than they could be (still valid), their lower bounds 0, their hints 0.
   unsigned rows = ~0u;
+  /// Component k is in `rows`.
+  bool wants(int k) const { return ((rows >> k) & 1u) != 0; }
   /// Optional (empty: none), per component: a bound at or below targets[k] is good enough for the caller, so
   /// methods may skip refinements that could only lower it further.
   DVec targets;
