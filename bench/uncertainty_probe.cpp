@@ -2,13 +2,15 @@
 // pose component k and boxes of growing size around its sampled worst pose on the `paper` workspace, relative to
 // the sampled maximum over poses and geometries:
 //   bound   the certified second-order bound over the box and every geometry (what the verifier uses);
+//   faces   the same with BoxInput::useFaces (each component on the face of the geometry box where it is certified
+//           monotone, in turn on the smaller faces these certify: what stalled search paths use), also certified;
 //   vertex  the nominal enclosure over the box with the geometry fixed at the sampled worst vertex g*_k: NOT a bound
 //           over every geometry, but what a bound through one geometry could reach (f_k(X, g) <= f_k(X, g*) +
 //           penalty) if the penalty were 0;
 //   lin     the penalty such a bound would pay with an exact first-order enclosure of d f_k / d g_p over the box
 //           (finite differences at the box centre: the centre value +- (sum over pose variables of |d2 f / dg dt|
 //           |dt| + sum over parameters of |d2 f / dg dg| h)), and the number of parameters whose monotonicity it
-//           would certify.
+//           would certify; cert: the number of parameters the faces step certified monotone.
 // Usage: uncertainty_probe [half-width in m, default 0.001]. Prints a table (double finite differences, not
 // certified: a measurement of what is possible, not a result).
 #include <algorithm>
@@ -42,7 +44,7 @@ int main(int argc, char** argv) {
       "anchors +-%.2f mm, paper workspace; boxes: the fraction of the workspace per coordinate around the\n"
       "sampled worst pose of each component; values / sampled maximum over poses and geometries\n",
       h * 1e3);
-  std::printf("%-3s %-6s %8s %8s %8s %5s\n", "k", "box", "bound", "vertex", "lin(%)", "mono");
+  std::printf("%-3s %-6s %8s %8s %8s %8s %5s %5s\n", "k", "box", "bound", "faces", "vertex", "lin(%)", "mono", "cert");
   for (int k = 0; k < 6; ++k) {
     const model::GoughPlatform vertex(bench::offsetGeometry(rf.geometry, m.offsets[k]));
     for (double frac : {0.0, 1.0 / 64, 1.0 / 16, 1.0 / 8}) {
@@ -54,6 +56,11 @@ int main(int argc, char** argv) {
       enclosure::ErrorBounds b, v;
       method->enclose(robot, in, b);
       method->enclose(vertex, in, v);
+      enclosure::ErrorBounds faced;
+      in.useFaces = true;
+      in.targets = b.upper * 0.9;  // never good enough: every face step runs
+      method->enclose(robot, in, faced);
+      const int certified = __builtin_popcountll(faced.faces.up[k] | faced.faces.down[k]);
       // Linearised range of d f_k / d g_p over the box (finite differences around the box centre).
       DVec c(6), dev(6);
       for (int i = 0; i < 6; ++i) {
@@ -97,8 +104,8 @@ int main(int argc, char** argv) {
       } else {
         std::snprintf(name, sizeof name, "pose");
       }
-      std::printf("%-3d %-6s %8.4f %8.4f %8.2f %5d\n", k, name, b.upper[k] / m.hi[k], v.upper[k] / m.hi[k],
-                  100.0 * penalty / m.hi[k], monotone);
+      std::printf("%-3d %-6s %8.4f %8.4f %8.4f %8.2f %5d %5d\n", k, name, b.upper[k] / m.hi[k],
+                  faced.upper[k] / m.hi[k], v.upper[k] / m.hi[k], 100.0 * penalty / m.hi[k], monotone, certified);
     }
   }
   return 0;

@@ -300,6 +300,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("min_width", numbersOrNull(o.min_width));
   d.set("geometry_splitting", Node::string(geometrySplittingName(o.geometry_splitting)));
   d.set("stall_levels", Node::integer(o.stall_levels));
+  d.set("faces", Node::boolean(o.faces));
   d.set("geometry_parameters", info.geometry_parameters.empty() ? Node() : strings(info.geometry_parameters));
 
   const bool witness = hasWitness(r);
@@ -379,6 +380,8 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   s.set("threads", Node::integer(r.stats.threads));
   s.set("geometry_switches", count(r.stats.geometry_switches));
   s.set("geometry_splits", count(r.stats.geometry_splits));
+  s.set("face_switches", count(r.stats.face_switches));
+  s.set("face_boxes", count(r.stats.face_boxes));
   d.set("stats", s);
 
   Node u = Node::object();
@@ -684,7 +687,9 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
        << (info.geometry_parameters.size() == 1 ? "" : "s") << ", splitting "
        << geometrySplittingName(o.geometry_splitting) << ": " << s.geometry_switches << " box"
        << (s.geometry_switches == 1 ? "" : "es") << " switched to bisecting the geometry, " << s.geometry_splits
-       << " geometry split" << (s.geometry_splits == 1 ? "" : "s") << "\n";
+       << " geometry split" << (s.geometry_splits == 1 ? "" : "s") << "; " << s.face_switches << " path"
+       << (s.face_switches == 1 ? "" : "s") << " switched to the faces (" << s.face_boxes << " box"
+       << (s.face_boxes == 1 ? "" : "es") << ")\n";
   }
   const bool sensitiveStop =
       r.verdict == verify::Verdict::Undecided && r.reason == verify::UndecidedReason::UncertaintySensitive;

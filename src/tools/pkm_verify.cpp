@@ -53,7 +53,7 @@ void usage(std::ostream& os) {
         "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
         "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
         "                  [--bisection smear|width|round-robin] [--geometry-splitting auto|never|always]\n"
-        "                  [--stall-levels N] [--json OUT] [--yaml OUT] [--quiet] [--progress]\n"
+        "                  [--stall-levels N] [--faces on|off] [--json OUT] [--yaml OUT] [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
         "       pkm_verify --help\n"
         "\n"
@@ -91,8 +91,12 @@ void usage(std::ostream& os) {
         "                         bisection switches from uncertainty as interval coefficients and first-order terms\n"
         "                         to bisecting the geometry parameters), never (never bisect the geometry), always\n"
         "                         (the geometry parameters compete with the box variables for every split)\n"
-        "  --stall-levels N       auto: bisection levels without 10% progress before a box switches to bisecting\n"
-        "                         the geometry (integer 0 to 1000; default 0: the number of box variables)\n"
+        "  --stall-levels N       auto: bisection levels without 10% progress before a box switches to\n"
+        "                         the faces, then the geometry (integer 0 to 1000; default 0: the number of box\n"
+        "                         variables)\n"
+        "  --faces on|off         with anchor uncertainty: a stalled box (or one at the precision limit) first\n"
+        "                         bounds each component on the face of the geometry box where it is certified\n"
+        "                         monotone, before bisecting the geometry (default on)\n"
         "  --time-limit S         stop after S seconds of wall time (default 0: no limit)\n"
         "  --max-boxes N          stop after N boxes (default 0: no limit)\n"
         "Output:\n"
@@ -161,9 +165,9 @@ Arguments parseArguments(int argc, char** argv) {
   std::string thresholdsText;
   // Options that take a value.
   static const std::vector<std::string> withValue = {
-      "--robot",      "--workspace",          "--thresholds",  "--mode", "--alpha",     "--uncertainty", "--method",
-      "--threads",    "--time-limit",         "--json",        "--yaml", "--max-boxes", "--min-width",   "--bisection",
-      "--trajectory", "--geometry-splitting", "--stall-levels"};
+      "--robot",      "--workspace",          "--thresholds",   "--mode", "--alpha",     "--uncertainty", "--method",
+      "--threads",    "--time-limit",         "--json",         "--yaml", "--max-boxes", "--min-width",   "--bisection",
+      "--trajectory", "--geometry-splitting", "--stall-levels", "--faces"};
   static const std::vector<std::string> flags = {"--help", "-h", "--list-workspaces", "--quiet", "-q", "--progress"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -253,6 +257,14 @@ Arguments parseArguments(int argc, char** argv) {
         a.options.geometry_splitting = verify::GeometrySplitting::Always;
       } else {
         badArgument(arg, "expected auto, never or always, got '" + value + "'");
+      }
+    } else if (arg == "--faces") {
+      if (value == "on") {
+        a.options.faces = true;
+      } else if (value == "off") {
+        a.options.faces = false;
+      } else {
+        badArgument(arg, "expected on or off, got '" + value + "'");
       }
     } else if (arg == "--stall-levels") {
       a.options.stall_levels = static_cast<int>(tools::parseCount(arg, value, kMaxStallLevels));

@@ -416,11 +416,29 @@ void expectInside(const std::vector<double>& p, const std::array<double, 12>& r)
 TEST_F(CliTest, HelpDocumentsUsageAndExitCodes) {
   const RunResult r = run({"--help"});
   EXPECT_EQ(r.code, 0);
-  for (const char* s :
-       {"--robot",           "--workspace",    "--thresholds",          "--mode",     "--alpha", "--uncertainty",
-        "--method",          "--threads",      "--time-limit",          "--json",     "--yaml",  "--geometry-splitting",
-        "auto|never|always", "--stall-levels", "uncertainty_sensitive", "Exit codes", "0  SAFE", "1  UNSAFE",
-        "2  UNDECIDED",      "3  bad input",   "4  internal error"}) {
+  for (const char* s : {"--robot",
+                        "--workspace",
+                        "--thresholds",
+                        "--mode",
+                        "--alpha",
+                        "--uncertainty",
+                        "--method",
+                        "--threads",
+                        "--time-limit",
+                        "--json",
+                        "--yaml",
+                        "--geometry-splitting",
+                        "auto|never|always",
+                        "--stall-levels",
+                        "--faces",
+                        "on|off",
+                        "uncertainty_sensitive",
+                        "Exit codes",
+                        "0  SAFE",
+                        "1  UNSAFE",
+                        "2  UNDECIDED",
+                        "3  bad input",
+                        "4  internal error"}) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
   }
   EXPECT_TRUE(r.err.empty()) << r.err;
@@ -766,10 +784,13 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   EXPECT_GE(narrowed, 1u);
 
   j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "1e-4",
-               "--threads", "1", "--geometry-splitting", "never", "--max-boxes", "20000"},
+               "--threads", "1", "--geometry-splitting", "never", "--faces", "off", "--max-boxes", "20000"},
               0);
   EXPECT_EQ(j["verdict"].str(), "SAFE");  // strategy (a) alone decides this one
   EXPECT_EQ(j["geometry_splitting"].str(), "never");
+  EXPECT_FALSE(j["faces"].boolean);
+  EXPECT_EQ(j["stats"]["face_switches"].num(), 0.0);
+  EXPECT_EQ(j["stats"]["face_boxes"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_splits"].num(), 0.0);
 }
@@ -849,6 +870,7 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
        {"--geometry-splitting", "sometimes", "auto, never or always"}},
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting="}, {"--geometry-splitting", "''"}},
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting"}, {"--geometry-splitting", "missing value"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--faces", "maybe"}, {"--faces", "maybe", "on or off"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "-1"}, {"--stall-levels", "-1"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "2.5"}, {"--stall-levels", "2.5"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "5000"}, {"--stall-levels", "<= 1000", "5000"}},

@@ -1223,7 +1223,8 @@ TEST(UncertaintyEnclosure, MonotoneFaceBoundHoldsAndTightensNearTheWorstCorner) 
 TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
   // h = 1 mm on the 1/32 corner box: at +3% of the sampled maxima strategy (a) alone needs ~170 boxes and the
   // stalled boxes (stall_levels = 1) switch to bisecting the geometry. (At +6% the enclosures settle the box in 15
-  // boxes, before anything can stall.)
+  // boxes, before anything can stall.) The faces step, which stalled paths take first, is off here (its own tests
+  // are in section 7).
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = cornerBox(1.0 / 32.0);
@@ -1235,6 +1236,7 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
     o.thresholds = s.max * factor;
     o.threads = 1;
     o.time_limit_s = 20.0;  // a safety net (each run takes < 0.2 s)
+    o.faces = false;
     o.geometry_splitting = verify::GeometrySplitting::Never;
     const auto never = verify::Verifier::run(robot, ws, o);
     EXPECT_EQ(never.stats.geometry_switches, 0u);
@@ -1276,6 +1278,7 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
   verify::VerifierOptions o;
   o.thresholds = s.max * 1.02;
   o.geometry_splitting = verify::GeometrySplitting::Auto;
+  o.faces = false;
   o.stall_levels = 1;
   o.threads = 1;
   o.max_boxes = 400;
@@ -1306,7 +1309,8 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
 TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   // h = 1 mm on the 1/128 corner box at +1% of the sampled maxima: the single-pose bound exceeds the worst
   // geometry by more than 1% at the corner (second-order remainder), so strategy (a) alone cannot conclude;
-  // bisecting the geometry does. (At +1.5% strategy (a) settles the box in 113 boxes, at +3% at once.)
+  // bisecting the geometry does (the faces off), and so do the faces. (At +1.5% strategy (a) settles the box in 113
+  // boxes, at +3% at once.)
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = cornerBox(1.0 / 128.0);
@@ -1316,11 +1320,22 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   verify::VerifierOptions o;
   o.thresholds = s.max * 1.01;
   o.threads = 1;
+  o.faces = false;
   o.geometry_splitting = verify::GeometrySplitting::Never;
   o.max_boxes = 3000;
   const auto never = verify::Verifier::run(robot, ws, o);
   EXPECT_EQ(never.verdict, Verdict::Undecided) << never.message;
   EXPECT_EQ(never.reason, UndecidedReason::BoxBudget);
+  // The faces alone (no geometry bisection, stalled paths after 1 level): SAFE.
+  o.faces = true;
+  o.stall_levels = 1;
+  const auto faced = verify::Verifier::run(robot, ws, o);
+  EXPECT_EQ(faced.verdict, Verdict::Safe) << faced.message;
+  EXPECT_GT(faced.stats.face_switches, 0u);
+  EXPECT_EQ(faced.stats.geometry_splits, 0u);
+  std::cout << "[ info     ] faces, no geometry bisection: " << faced.stats.boxes << " boxes\n";
+  o.faces = false;
+  o.stall_levels = 0;
   o.max_boxes = 20000;  // a safety net: measured 225 boxes (Always) and 3705 (Auto, stall_levels = 1)
   for (const auto mode : {verify::GeometrySplitting::Always, verify::GeometrySplitting::Auto}) {
     o.geometry_splitting = mode;
@@ -1339,6 +1354,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   m.mode = verify::Mode::MaxError;
   m.alpha = 0.02;
   m.geometry_splitting = verify::GeometrySplitting::Always;
+  m.faces = false;
   m.time_limit_s = 20.0;
   const auto r = verify::Verifier::run(robot, ws, m);
   EXPECT_GT(r.stats.geometry_splits, 0u);
@@ -1507,4 +1523,161 @@ TEST(UncertaintyRegression, ApplySuccessDoesNotDependOnTheRightHandSide) {
   enclosure::AffineInverseAction::AffineMatrix a;
   ASSERT_TRUE(act.apply(cols, a));
   EXPECT_TRUE(act.apply(v, a));
+}
+
+// =====================================================================================================================
+// 7. Faces: bounds on the faces of the geometry box where f_k is certified monotone (BoxInput::useFaces)
+// =====================================================================================================================
+
+namespace {
+
+/// The ref6 `paper` pose box of the given half-widths (m, rad) at the vertex (+x, +y, -z, +roll, -pitch, -yaw),
+/// where the pitch error is largest (sampled, h = 1 mm).
+IVec pitchCorner(double position, double angle) {
+  const IVec paper = test::ref6File().workspaces.at("paper").initialBox();
+  const bool upper[6] = {true, true, false, true, false, false};
+  IVec box(6);
+  for (int i = 0; i < 6; ++i) {
+    const double w = 2.0 * (i < 3 ? position : angle);
+    box[i] =
+        upper[i] ? Interval(paper[i].upper() - w, paper[i].upper()) : Interval(paper[i].lower(), paper[i].lower() + w);
+  }
+  return box;
+}
+
+}  // namespace
+
+TEST(UncertaintyModel, FixGeometryParametersKeepsTheFreeOnesInOrderAndRejectsTheRest) {
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const int params = robot.geometryParameterCount();
+  ASSERT_EQ(params, 36);
+  GVec values = GVec::Constant(params, std::numeric_limits<double>::quiet_NaN());
+  values[0] = robot.geometryParameterRange(0).upper();
+  values[7] = robot.geometryParameterRange(7).lower();
+  values[35] = robot.geometryParameterCentre(35);
+  const auto face = robot.fixGeometryParameters(values);
+  ASSERT_EQ(face->geometryParameterCount(), 33);
+  EXPECT_TRUE(face->hasGeometryUncertainty());
+  for (int p = 0, q = 0; p < params; ++p) {
+    if (!std::isnan(values[p])) continue;
+    EXPECT_EQ(face->geometryParameterName(q), robot.geometryParameterName(p));
+    EXPECT_EQ(face->geometryParameterRange(q).lower(), robot.geometryParameterRange(p).lower());
+    EXPECT_EQ(face->geometryParameterRange(q).upper(), robot.geometryParameterRange(p).upper());
+    ++q;
+  }
+  // Every parameter fixed: the robot of that geometry, without uncertainty (same J^-1 in double and intervals).
+  std::mt19937_64 rng(707);
+  const Geometry vertex = u.randomVertex(rng);
+  GVec all(params);
+  for (int p = 0; p < params; ++p) all[p] = vertex[p];
+  const auto fixed = robot.fixGeometryParameters(all);
+  EXPECT_EQ(fixed->geometryParameterCount(), 0);
+  EXPECT_FALSE(fixed->hasGeometryUncertainty());
+  const model::GoughPlatform reference(u.at(vertex));
+  const DVec q = test::randomPoint(test::ref6File().workspaces.at("paper").initialBox(), rng);
+  EXPECT_EQ(fixed->inverseJacobian(q), reference.inverseJacobian(q));
+  const IMat a = fixed->inverseJacobian(thinOf(q)), b = reference.inverseJacobian(thinOf(q));
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_EQ(a(i, j).lower(), b(i, j).lower());
+      EXPECT_EQ(a(i, j).upper(), b(i, j).upper());
+    }
+  // Bad input: wrong size, a value outside its range (named), a robot without parameters.
+  EXPECT_THROW(robot.fixGeometryParameters(GVec::Constant(35, 0.0)), InvalidArgument);
+  GVec outside = values;
+  outside[3] = robot.geometryParameterRange(3).upper() + 1e-6;
+  try {
+    robot.fixGeometryParameters(outside);
+    ADD_FAILURE() << "no exception";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find(robot.geometryParameterName(3)), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(model::GoughPlatform(withUncertainty(0.0)).fixGeometryParameters(GVec()), InvalidArgument);
+}
+
+TEST(UncertaintyEnclosure, FaceBoundsHoldForEveryGeometryAndReachTheWorstVertex) {
+  // With useFaces, the components certified monotone in some parameters are bounded on their faces, in turn on the
+  // smaller faces these certify (here in one box, and inherited by a sub-box). The bounds must still cover every
+  // admissible geometry (worst vertices by vertex search, random vertices and interior points; double and MPFR), and
+  // at the worst corner pose they must be the error at the worst vertex itself, where the plain bound is ~1% above.
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const domain::Workspace& ws = test::ref6File().workspaces.at("paper");
+  const auto method = enclosure::makeEnclosure("second_order");
+  std::mt19937_64 rng(710);
+  int checked = 0, atVertex = 0;
+  const std::vector<IVec> boxes = {cornerBox(0.0), pitchCorner(0.0, 0.0), cornerBox(1.0 / 512.0),
+                                   pitchCorner(0.0005, 0.001), cornerBox(1.0 / 64.0)};
+  for (const IVec& box : boxes) {
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::ErrorBounds plain, faced, child;
+    method->enclose(robot, in, plain);
+    ASSERT_TRUE(plain.bounded());
+    in.useFaces = true;
+    in.targets = plain.upper * 0.9;  // never good enough: every refinement runs
+    method->enclose(robot, in, faced);
+    ASSERT_TRUE(faced.bounded());
+    // A sub-box (the half at the upper end of x) with the faces certified on the box.
+    IVec sub = box;
+    sub[0] = Interval(box[0].mid(), box[0].upper());
+    enclosure::BoxInput subIn;
+    ws.poseView(sub, true, subIn);
+    subIn.useFaces = true;
+    subIn.faces = faced.faces;
+    subIn.knownSigns = faced.signs;
+    method->enclose(robot, subIn, child);
+    ASSERT_TRUE(child.bounded());
+    const bool thin = box[0].isPoint();
+    for (int s = 0; s < 3; ++s) {
+      const DVec q = s == 0 ? randomVertexOf(box, rng) : test::randomPoint(box, rng);
+      const DVec qs = s == 0 ? randomVertexOf(sub, rng) : test::randomPoint(sub, rng);
+      const Eigen::MatrixXd grad = u.gradient(u.nominal, q), gradSub = u.gradient(u.nominal, qs);
+      for (int k = 0; k < 6; ++k) {
+        const Geometry worst = u.vertexSearch(q, k, 1.0, u.vertexBySigns(grad, k, 1.0));
+        const Geometry worstSub = u.vertexSearch(qs, k, 1.0, u.vertexBySigns(gradSub, k, 1.0));
+        EXPECT_TRUE(mpLessEqual(mpfrWorstError(u.at(worst), q)[k], faced.upper[k])) << k;
+        EXPECT_TRUE(mpLessEqual(mpfrWorstError(u.at(worstSub), qs)[k], child.upper[k])) << k;
+        for (int r = 0; r < 4; ++r) {
+          const Geometry g = r % 2 ? u.randomVertex(rng) : u.randomInterior(rng);
+          EXPECT_LE(u.error(g, q)[k], faced.upper[k] * (1 + 1e-12)) << k;
+          EXPECT_LE(u.error(g, qs)[k], child.upper[k] * (1 + 1e-12)) << k;
+        }
+        ++checked;
+        if (thin && s == 0) atVertex += faced.upper[k] <= u.error(worst, q)[k] * (1 + 1e-4) ? 1 : 0;
+      }
+    }
+    if (thin) {
+      for (int k = 0; k < 6; ++k) EXPECT_LT(faced.upper[k], plain.upper[k] * (1 - 2e-3)) << k;
+    }
+  }
+  EXPECT_EQ(checked, 5 * 3 * 6);
+  EXPECT_GE(atVertex, 10) << "of 12 (component, thin corner) pairs";
+}
+
+TEST(UncertaintyVerifier, FacesCertifyMarginsBelowTheFirstOrderRemainder) {
+  // h = 1 mm on a small box at the pitch corner, thresholds 0.5% above the sampled maximum of pitch (the others
+  // out of reach): the plain geometry-aware bound stays ~1.6% above the maximum there whatever the pose box (its
+  // second-order geometry remainder); stalled paths switch to the faces, whose bounds reach the worst vertex: SAFE.
+  // 0.5% below the sampled maximum it must not be SAFE (the sampled maximum is attained at an admissible geometry).
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  const IVec box = pitchCorner(0.0001, 0.00015);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  const Sampled s = sample(u, box, 50, 711);
+  verify::VerifierOptions o;
+  o.threads = 2;
+  o.max_boxes = 200000;
+  o.thresholds = DVec::Constant(6, 1.0);
+  o.thresholds[4] = s.max[4] * 1.005;
+  const auto safe = verify::Verifier::run(robot, ws, o);
+  EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
+  EXPECT_GT(safe.stats.face_switches, 0u);
+  EXPECT_GT(safe.stats.face_boxes, 0u);
+  std::cout << "[ info     ] SAFE at +0.5%: " << safe.stats.boxes << " boxes, " << safe.stats.face_switches
+            << " face switches\n";
+  o.thresholds[4] = s.max[4] * 0.995;
+  const auto below = verify::Verifier::run(robot, ws, o);
+  EXPECT_NE(below.verdict, Verdict::Safe) << below.message;
 }

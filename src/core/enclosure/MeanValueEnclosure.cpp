@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
@@ -10,6 +11,8 @@
 namespace pkm_accuracy {
 namespace enclosure {
 namespace {
+/// Faces per row and box: each certifies more directions on a smaller face (measured on the paper workspace).
+constexpr int kFaceIterations = 4;
 
 /// Second-order bound of f_k when the model has uncertain geometry parameters: the same identities as in the
 /// nominal case below, with the geometry as first-order terms too (AffineInverseAction). J = N C is enclosed first
@@ -19,8 +22,11 @@ namespace {
 /// each choice one column N v (v = C w_s) whose first-order terms cancel across legs (much tighter than adding
 /// |J_kj| e_j for the undetermined entries). Beyond kMaxOpen undetermined entries in a row (or negligible ones),
 /// |J_kj| e_j is bounded by its magnitude.
+/// Only the components in `rows` (a subset of box.rows) are bounded. The geometry directions certified for a row
+/// are added to out.faces (which the caller initialised).
 /// @return false if the affine form cannot be built (then the interval-coefficient path runs instead).
-bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) {
+bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, unsigned rows, ErrorBounds& out) {
+  const auto wants = [rows](int k) { return ((rows >> k) & 1u) != 0; };
   // Measured on the paper workspace at +-0.5 mm (bench/RESULTS.md): 2 and 1e-2 beat 1 / 3 and 2e-3 by 1.3-1.7x.
   constexpr int kMaxOpen = 2;
   constexpr double kNegligible = 1e-2;
@@ -32,7 +38,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   const int vars = box.variables;
   const int params = act.parameters();
   const DMat& c = act.preconditioner();
-  // Only the rows (components) the caller asks for (box.wants): the others keep +inf.
+  // Only the rows (components) asked for (`rows`): the others keep +inf.
   // J = N C, column by column, for the columns with an entry of a wanted row whose sign is not known yet (from a
   // containing box).
   const SignPattern& known = box.knownSigns;
@@ -40,7 +46,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   int needed = 0;
   for (int j = 0; j < n; ++j) {
     bool all = true;
-    for (int k = 0; k < n; ++k) all = all && (known.known(k * n + j) || !box.wants(k));
+    for (int k = 0; k < n; ++k) all = all && (known.known(k * n + j) || !wants(k));
     if (!all) need[needed++] = j;
   }
   // Entries not computed (columns not needed, unknown sign): [-1, 1] stands for "sign unknown"; only signs are read
@@ -82,7 +88,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
     rest[k] = Interval(0.0);
     magnitudeTerms[k] = false;
     columnsOfRow[k] = 0;
-    if (!box.wants(k)) continue;
+    if (!wants(k)) continue;
     Interval entries[kMaxDof];
     double rowSize = 0.0;
     for (int j = 0; j < n; ++j) {
@@ -150,17 +156,26 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
     // Only where the bound is not good enough already (BoxInput::targets), f_k has no magnitude terms, and every
     // column of the row is in this batch.
     const bool enough = box.targets.size() == n && upper[k] <= box.targets[k];
-    int directions = magnitudeTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
+    const bool eligible = !(magnitudeTerms[k] || enough || m != columnsOfRow[k]);
     for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
-    for (int q = 0; q < m && directions > 0; ++q) {
-      act.monotoneDirections(nv, q, jSign, dir);
-      directions = 0;
-      for (int p = 0; p < params; ++p) {
-        common[p] = q == 0 ? dir[p] : (common[p] == dir[p] ? dir[p] : 0.0);
-        directions += common[p] != 0.0 ? 1 : 0;
+    auto findDirections = [&]() {
+      int found = params;
+      for (int q = 0; q < m && found > 0; ++q) {
+        act.monotoneDirections(nv, q, jSign, dir);
+        found = 0;
+        for (int p = 0; p < params; ++p) {
+          common[p] = q == 0 ? dir[p] : (common[p] == dir[p] ? dir[p] : 0.0);
+          found += common[p] != 0.0 ? 1 : 0;
+        }
       }
-    }
+      return found;
+    };
+    const int directions = eligible ? findDirections() : 0;
     if (directions > 0) {
+      for (int p = 0; p < params; ++p) {
+        if (common[p] > 0.0) out.faces.up[k] |= std::uint64_t(1) << p;
+        if (common[p] < 0.0) out.faces.down[k] |= std::uint64_t(1) << p;
+      }
       double largestOnFace = -std::numeric_limits<double>::infinity();
       for (int q = 0; q < m; ++q) largestOnFace = std::max(largestOnFace, act.upperOnFace(nv, k, q, common));
       onFace[k] = largestOnFace;
@@ -170,7 +185,7 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
   double smear[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   double largest = 0.0;
   for (int k = 0; k < n; ++k) {
-    if (!box.wants(k)) continue;
+    if (!wants(k)) continue;
     // (onFace only where there are no magnitude terms, i.e. rest = 0.)
     const double bound = std::min((Interval(upper[k]) + rest[k]).upper(), onFace[k]);
     out.lower[k] = std::max(out.lower[k], lower[k]);
@@ -197,7 +212,71 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, Er
 
 }  // namespace
 
+bool MeanValueEnclosure::encloseOnFace(const model::RobotModel& model, const BoxInput& box, int k,
+                                       ErrorBounds& out) const {
+  const int n = model.dof();
+  const int vars = box.variables;
+  const int params = model.geometryParameterCount();
+  // The face: every parameter with a certified direction at its raising end; the others stay parameters (their
+  // numbering on the face model is `free`).
+  const std::uint64_t up = out.faces.up[k], down = out.faces.down[k];
+  GVec values(params);
+  int free[kMaxGeometryParameters];
+  int freeCount = 0;
+  for (int p = 0; p < params; ++p) {
+    const std::uint64_t bit = std::uint64_t(1) << p;
+    if (up & bit) {
+      values[p] = model.geometryParameterRange(p).upper();
+    } else if (down & bit) {
+      values[p] = model.geometryParameterRange(p).lower();
+    } else {
+      values[p] = std::numeric_limits<double>::quiet_NaN();
+      free[freeCount++] = p;
+    }
+  }
+  const std::unique_ptr<model::RobotModel> face = model.fixGeometryParameters(values);
+  BoxInput in = box;
+  in.rows = 1u << k;
+  in.faces = GeometryFaces();
+  // Signs certified over every geometry hold on the face; those certified on the face (row k's) as well.
+  const std::uint64_t rowBits = ((std::uint64_t(1) << n) - 1u) << (k * n);
+  in.knownSigns.positive |= out.faces.signs.positive & rowBits;
+  in.knownSigns.negative |= out.faces.signs.negative & rowBits;
+  ErrorBounds f;
+  encloseImpl(*face, in, f, true);
+  // What the face certified: more directions (on the face, hence on its sub-faces) and row k's signs there.
+  bool more = false;
+  for (int q = 0; q < freeCount; ++q) {
+    const std::uint64_t bit = std::uint64_t(1) << free[q];
+    if ((f.faces.up[k] >> q) & 1u) out.faces.up[k] |= bit, more = true;
+    if ((f.faces.down[k] >> q) & 1u) out.faces.down[k] |= bit, more = true;
+  }
+  out.faces.signs.positive |= f.signs.positive & rowBits;
+  out.faces.signs.negative |= f.signs.negative & rowBits;
+  if (!(f.upper[k] < out.upper[k])) return more;
+  out.upper[k] = f.upper[k];
+  if (f.componentSmear.rows() == n && f.componentSmear.cols() == vars) {
+    out.componentSmear.row(k) = f.componentSmear.row(k);
+  } else if (f.splitScore.size() == vars) {
+    out.componentSmear.row(k) = f.splitScore.transpose();
+  }
+  out.geometrySmear.row(k).setZero();
+  out.geometrySensitivity.row(k).setZero();
+  if (f.geometrySmear.rows() == n && f.geometrySmear.cols() == freeCount) {
+    for (int q = 0; q < freeCount; ++q) {
+      out.geometrySmear(k, free[q]) = f.geometrySmear(k, q);
+      out.geometrySensitivity(k, free[q]) = f.geometrySensitivity(k, q);
+    }
+  }
+  return more;
+}
+
 void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) const {
+  encloseImpl(model, box, out, false);
+}
+
+void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out,
+                                     bool onFace) const {
   const int n = model.dof();
   const int vars = box.variables;
   out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
@@ -207,9 +286,52 @@ void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput&
   out.geometrySensitivity.resize(0, 0);
   out.lower = DVec::Zero(n);
   out.splitScore = DVec::Constant(vars, 1.0);
+  out.faces = GeometryFaces();
   // Uncertain geometry: the geometry-aware second-order form; the interval-coefficient path below only if it fails.
+  // Components with certified geometry directions (box.faces) are bounded on their faces instead.
   if (secondOrder_ && model.geometryParameterCount() > 0 && model.hasGeometryUncertainty() && box.hasGradient) {
-    if (encloseWithGeometry(model, box, out)) return;
+    const int params = model.geometryParameterCount();
+    unsigned faceRows = 0;
+    for (int k = 0; k < n; ++k)
+      if (box.useFaces && !onFace && box.wants(k) && box.faces.any(k)) faceRows |= 1u << k;
+    out.faces = box.faces;
+    bool ok = true;
+    if (box.rows & ~faceRows) {
+      ok = encloseWithGeometry(model, box, box.rows & ~faceRows, out);
+    } else {
+      out.signs = box.knownSigns;
+      out.componentSmear = DMat::Zero(n, vars);
+      out.geometrySmear = GMat::Zero(n, params);
+      out.geometrySensitivity = GMat::Zero(n, params);
+    }
+    if (ok) {
+      // Each row with certified directions (inherited, or found here while its bound misses the target) goes to its
+      // face, and on to the smaller faces the face certifies in turn, while the bound misses its target.
+      const bool targeted = box.targets.size() == n;
+      bool faced = false;
+      for (int k = 0; k < n && box.useFaces && !onFace; ++k) {
+        if (!box.wants(k)) continue;
+        const bool inherited = (faceRows >> k) & 1u;
+        if (inherited) out.lower[k] = 0.0;  // a bound on the face only: nothing about the other geometries
+        for (int it = 0; it < kFaceIterations && out.faces.any(k); ++it) {
+          if ((it > 0 || !inherited) && targeted && out.upper[k] <= box.targets[k]) break;
+          faced = true;
+          if (!encloseOnFace(model, box, k, out)) break;
+        }
+      }
+      if (faced) {
+        double largest = 0.0;
+        DVec score = DVec::Zero(vars);
+        for (int k = 0; k < n; ++k) {
+          if (!box.wants(k)) continue;
+          for (int i = 0; i < vars; ++i) score[i] = std::max(score[i], out.componentSmear(k, i));
+        }
+        largest = vars > 0 ? score.maxCoeff() : 0.0;
+        if (largest > 0.0) out.splitScore = score;
+      }
+      return;
+    }
+    out.faces = box.faces;
     // Fallback to interval coefficients: no geometry hints (empty, not zero: zero would read "nothing to split").
     out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
     out.lower = DVec::Zero(n);

@@ -249,6 +249,46 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
   return true;
 }
 
+std::unique_ptr<RobotModel> GoughPlatform::fixGeometryParameters(const GVec& values) const {
+  if (params_.empty()) return RobotModel::fixGeometryParameters(values);
+  if (values.size() != static_cast<int>(params_.size())) {
+    throw InvalidArgument("geometry values: expected " + std::to_string(params_.size()) + " values, got " +
+                          std::to_string(values.size()));
+  }
+  auto out = std::make_unique<GoughPlatform>(*this);
+  out->params_.clear();
+  bool uncertain = false;
+  for (std::size_t p = 0; p < params_.size(); ++p) {
+    const Parameter& q = params_[p];
+    const double v = values[static_cast<int>(p)];
+    if (std::isnan(v)) {
+      out->params_.push_back(q);
+      uncertain = uncertain || !slot(q, false).isPoint();
+      continue;
+    }
+    if (!slot(q, false).contains(v)) {
+      std::ostringstream os;
+      os << "geometry values[" << p << "] (" << geometryParameterName(static_cast<int>(p)) << "): expected a point "
+         << "of " << slot(q, false) << ", got " << v;
+      throw InvalidArgument(os.str());
+    }
+    out->slot(q, false) = Interval(v);
+    out->slot(q, true) = Interval(v);
+    if (q.kind == Parameter::Base) {
+      out->geometry_.base_anchors[q.leg][q.coord] = v;
+      out->geometry_.base_anchor_halfwidth[q.leg][q.coord] = 0.0;
+    } else if (q.kind == Parameter::Platform) {
+      out->geometry_.platform_anchors[q.leg][q.coord] = v;
+      out->geometry_.platform_anchor_halfwidth[q.leg][q.coord] = 0.0;
+    } else {
+      out->geometry_.tool_point[q.coord] = v;
+      out->geometry_.tool_point_halfwidth[q.coord] = 0.0;
+    }
+  }
+  out->uncertain_ = uncertain;
+  return out;
+}
+
 std::unique_ptr<RobotModel> GoughPlatform::restrictGeometry(const std::vector<Interval>& ranges) const {
   if (params_.empty()) return RobotModel::restrictGeometry(ranges);
   if (ranges.size() != params_.size()) {

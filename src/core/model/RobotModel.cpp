@@ -26,6 +26,9 @@ bool RobotModel::geometryDerivatives(const IVec&, GeometryDerivatives& out) cons
 std::unique_ptr<RobotModel> RobotModel::restrictGeometry(const std::vector<Interval>&) const {
   throw InvalidArgument("geometry: " + name() + " has no uncertain geometry parameters to restrict");
 }
+std::unique_ptr<RobotModel> RobotModel::fixGeometryParameters(const GVec&) const {
+  throw InvalidArgument("geometry: " + name() + " has no uncertain geometry parameters to fix");
+}
 
 DMat RobotModel::jacobian(const DVec& pose) const {
   const DMat m = inverseJacobian(pose);

@@ -62,8 +62,10 @@ struct Track {
   std::shared_ptr<const GeometryPart> geometry;
   double ref = kInf;
   int since = 0;
-  enclosure::SignPattern signs;  ///< signs of J certified on the parent box (inherited by its sub-boxes)
-  DVec upper;                    ///< the parent box's upper bounds (valid for its sub-boxes; empty at the root)
+  enclosure::SignPattern signs;    ///< signs of J certified on the parent box (inherited by its sub-boxes)
+  enclosure::GeometryFaces faces;  ///< geometry monotonicity certified on the parent box (for the track's model)
+  bool useFaces = false;           ///< the path stalled: bound its components on their faces (BoxInput::useFaces)
+  DVec upper;                      ///< the parent box's upper bounds (valid for its sub-boxes; empty at the root)
 };
 
 class Run {
@@ -150,12 +152,15 @@ class Run {
     domain_.poseView(box, method_->needsGradient(), in);
     in.keepInternals = options_.monotonicity;
     in.knownSigns = track.signs;
+    in.faces = track.faces;
+    in.useFaces = track.useFaces;
     in.rows = active;  // components decided on a containing box need no bound here
     in.targets.resize(n_);
     for (int k = 0; k < n_; ++k) in.targets[k] = target(k);
     enclosure::ErrorBounds bounds;
     method_->enclose(model, in, bounds);
     boxes_.fetch_add(1, std::memory_order_relaxed);
+    if (track.useFaces) faceBoxes_.fetch_add(1, std::memory_order_relaxed);
     maybeReportProgress();
     if (options_.monotonicity && where == domain::Containment::Inside) tightenByGradient(box, bounds, active);
 
@@ -202,14 +207,16 @@ class Run {
     const bool byWidth = where == domain::Containment::Partial && depth % 2 == 1;
     double poseScore = -1.0;
     const int split = chooseSplit(box, depth, bounds, byWidth, active, &poseScore);
-    // Geometric uncertainty: follow the progress of the bound; a box that keeps splitting without progress may
-    // bisect a geometry parameter instead (strategy (b)) when that is where the bound's width comes from.
+    // Geometric uncertainty: follow the progress of the bound; a path that keeps splitting without progress first
+    // bounds its components on their faces (still strategy (a)), then, if it stalls again, may bisect a geometry
+    // parameter instead (strategy (b)) when that is where the bound's width comes from.
     Track next = track;
     next.signs = bounds.signs;
+    next.faces = bounds.faces;
     // (Components not enclosed here keep the bounds of the containing box that decided them.)
     next.upper = track.upper.size() == n_ ? DVec(bounds.upper.cwiseMin(track.upper)) : bounds.upper;
     int geometrySplit = -1;
-    if (params_ > 0 && options_.geometry_splitting != GeometrySplitting::Never && !byWidth) {
+    if (params_ > 0 && (options_.faces || options_.geometry_splitting != GeometrySplitting::Never) && !byWidth) {
       const double excess = relativeExcess(bounds, active);
       if (excess <= 0.9 * track.ref) {
         next.ref = excess;
@@ -220,9 +227,15 @@ class Run {
       // Auto: a stalled box bisects its most influential geometry parameter (then gets pose splits again: its
       // progress count restarts). Always: geometry parameters compete with the box variables by their scores.
       const bool always = options_.geometry_splitting == GeometrySplitting::Always;
+      const bool never = options_.geometry_splitting == GeometrySplitting::Never;
       double geometryScore = -1.0;
-      if (always || next.since >= stallLevels_)
+      if (options_.faces && !always && next.since >= stallLevels_ && !track.useFaces) {
+        next.useFaces = true;
+        next.since = 0;
+        faceSwitches_.fetch_add(1, std::memory_order_relaxed);
+      } else if (!never && (always || next.since >= stallLevels_)) {
         geometrySplit = chooseGeometrySplit(bounds, active, track, &geometryScore);
+      }
       const bool comparable = options_.bisection == Bisection::Smear && bounds.componentSmear.rows() == n_;
       if (always && geometrySplit >= 0 && split >= 0 && comparable && geometryScore <= poseScore) geometrySplit = -1;
     }
@@ -236,6 +249,14 @@ class Run {
       }
     }
     if (split < 0 && geometrySplit < 0) {
+      // At the precision limit, the faces are the last resort (once per box) before giving up.
+      if (params_ > 0 && options_.faces && !track.useFaces) {
+        Track faced = next;
+        faced.useFaces = true;
+        faceSwitches_.fetch_add(1, std::memory_order_relaxed);
+        process(box, depth, active, faced);
+        return;
+      }
       recordUndecided(box, next.upper, active, track);
       return;
     }
@@ -245,6 +266,8 @@ class Run {
       const std::vector<Interval>& ranges = track.geometry ? track.geometry->ranges : geometryRange_;
       const auto halves = ranges[geometrySplit].bisect();
       next.since = 0;
+      // (The faces are those of this box's geometry range: the halves start again from the whole of theirs.)
+      next.faces = enclosure::GeometryFaces();
       Track first = next, second = next;
       first.geometry = geometryPart(ranges, geometrySplit, halves.first, track);
       second.geometry = geometryPart(ranges, geometrySplit, halves.second, track);
@@ -681,6 +704,8 @@ class Run {
     s.threads = result_.stats.threads;
     s.monotonicity_hits = gradientHits_.load();
     s.geometry_switches = geometrySwitches_.load();
+    s.face_switches = faceSwitches_.load();
+    s.face_boxes = faceBoxes_.load();
     s.geometry_splits = geometrySplits_.load();
     return s;
   }
@@ -826,7 +851,7 @@ class Run {
   int stallLevels_ = 2;
   static constexpr int kMaxGeometrySplits = 12;       ///< geometry bisections per search path at most
   static constexpr double kGeometryMinFraction = 64;  ///< geometry ranges are not split below 1/64 of the initial
-  std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0};
+  std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0}, faceSwitches_{0}, faceBoxes_{0};
   std::mutex mutex_, progressMutex_;
   bool haveWitness_ = false;
   VerifierResult result_;

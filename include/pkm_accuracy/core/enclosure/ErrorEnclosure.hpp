@@ -27,6 +27,20 @@ struct SignPattern {
   double sign(int bit) const { return (positive >> bit) & 1u ? 1.0 : ((negative >> bit) & 1u ? -1.0 : 0.0); }
 };
 
+/// Monotonicity of each f_k in the geometry parameters, certified over a box and (the face of) the geometry box:
+/// bit p of up[k] (down[k]) says that f_k is non-decreasing (non-increasing) in g_p over the box and over the face of
+/// the geometry box given by the other bits of row k. So max over the geometry box of f_k (on the box, and on every
+/// sub-box) is its max over the face with each such g_p at its raising end: a sub-box may bound f_k on that face
+/// only, with a model whose uncertainty is the face's (fewer parameters, re-centred: tighter and cheaper). The
+/// face signs are the signs of J_kj certified over the box and that face (row k's entries for row k), which hold on
+/// the face only. Bits refer to the parameter numbering of the model the box is enclosed with; a search that
+/// bisects the geometry must drop them (a raising end of the whole range is not one of the half range).
+struct GeometryFaces {
+  std::array<std::uint64_t, kMaxDof> up{}, down{};
+  SignPattern signs;
+  bool any(int k) const { return (up[k] | down[k]) != 0; }
+};
+
 /// A box of the search, seen as poses. Built by the domain (workspace: the identity map; trajectory: the pose
 /// map of the parameters).
 struct BoxInput {
@@ -39,6 +53,13 @@ struct BoxInput {
   bool keepInternals = false;  ///< ask the method to fill ErrorBounds::internals (for errorGradient)
   /// Signs of J already certified on a box containing this one (e.g. its parent); methods may skip recomputing them.
   SignPattern knownSigns;
+  /// Monotonicity in the geometry certified on a box containing this one (GeometryFaces). Empty by default.
+  GeometryFaces faces;
+  /// Bound the components on their faces (those in `faces` and those certified on this box, in turn on the smaller
+  /// faces these give), and certify directions with the mean-value form in the pose too: tighter (to the nominal
+  /// enclosure at one geometry vertex once every direction is certified) but several enclosures per component, so
+  /// for the boxes where the plain bound stalls. Off: `faces` is only passed on (the directions found added).
+  bool useFaces = false;
   /// The components the caller needs (bit k: component k). Methods may skip the others: their upper bounds are then
   /// +inf or looser than they could be (still valid), their lower bounds 0, their hints 0.
   unsigned rows = ~0u;
@@ -82,6 +103,9 @@ struct ErrorBounds {
   }
   EnclosureInternals internals;  ///< filled by the mean-value methods when BoxInput::keepInternals is set
   SignPattern signs;             ///< signs of J certified over the box (second-order method with geometry; else 0)
+  /// The input's faces with what this box certified added (second-order method with geometry; else empty). Lower
+  /// bounds of components bounded on a face are 0 (a face bound says nothing about the other geometries).
+  GeometryFaces faces;
 };
 
 /// Enclosure of the gradient of f_k with respect to the box variables over the box, from the internals of a

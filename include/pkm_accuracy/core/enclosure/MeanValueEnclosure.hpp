@@ -15,6 +15,9 @@ namespace enclosure {
 // With secondOrder (registry name "second_order", the default), a second bound of f_k is computed from the
 // identity N = I - E + E^2 N (E = C J^-1 - I): its first-order part keeps the cancellations between the terms of
 // sum_j |J_kj| e_j, its remainder is quadratic in the box size (see the .cpp); the tighter bound is returned.
+// With uncertain geometry, a component whose monotonicity in some parameters was certified on a containing box
+// (BoxInput::faces) is bounded on that face of the geometry box, with those parameters fixed at their raising ends
+// (docs/uncertainty.md, "Faces").
 class MeanValueEnclosure final : public ErrorEnclosure {
  public:
   explicit MeanValueEnclosure(bool secondOrder = false) : secondOrder_(secondOrder) {}
@@ -23,6 +26,11 @@ class MeanValueEnclosure final : public ErrorEnclosure {
   void enclose(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) const override;
 
  private:
+  /// enclose(); onFace: called by encloseOnFace() on a face model (no faces of its own, no iterations).
+  void encloseImpl(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out, bool onFace) const;
+  /// Component k on the face out.faces gives it: out.upper[k] and its hints if tighter, and the directions and signs
+  /// the face certifies added to out.faces. @return true if it certified more directions.
+  bool encloseOnFace(const model::RobotModel& model, const BoxInput& box, int k, ErrorBounds& out) const;
   bool secondOrder_;
 };
 

@@ -40,6 +40,7 @@ class GoughPlatform final : public RobotModel {
   void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override;
   bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
+  std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override;
 
   /// Enclosure of the leg lengths over a pose box (every admissible geometry).
   IVec legLengths(const IVec& pose) const;

@@ -72,6 +72,12 @@ class RobotModel {
   /// @throws InvalidArgument if the size is wrong, a range is empty or leaves the current range; or if the model
   ///         has no geometry parameters.
   virtual std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const;
+  /// The same robot with every parameter p whose values[p] is not NaN fixed at values[p] (a point of its range) and
+  /// no longer a parameter; the others keep their ranges and their order (parameter q of the result is the q-th
+  /// parameter with values[p] NaN). Used to enclose f_k on a face of the geometry box.
+  /// @throws InvalidArgument if the size is wrong, a value leaves its range; or if the model has no geometry
+  ///         parameters.
+  virtual std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const;
 
   // ---- helpers built on the above ------------------------------------------------------------------------------
   /// J = (J^-1)^-1 at a pose. @throws SingularMatrix if J^-1 is (numerically) singular there.

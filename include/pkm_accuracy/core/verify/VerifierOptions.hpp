@@ -75,6 +75,10 @@ struct VerifierOptions {
   /// Auto: a box "keeps splitting without progress" after this many bisection levels without reducing its bound's
   /// excess over the target by 10% (0: the number of box variables, at least 2).
   int stall_levels = 0;
+  /// Geometric uncertainty: a stalled search path (or a box at the precision limit) first bounds each component on
+  /// the face of the geometry box where it is certified monotone (enclosure::BoxInput::useFaces), before any
+  /// geometry bisection; false skips that step (strategy (a) as it was, then (b)).
+  bool faces = true;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
 };

@@ -42,6 +42,11 @@ struct Statistics {
   /// to (b); one per search path), and all bisections of a geometry parameter.
   std::size_t geometry_switches = 0;
   std::size_t geometry_splits = 0;
+  /// Geometric uncertainty: search paths that switched to bounding their components on the faces of the geometry
+  /// box where monotonicity is certified (a stalled path, or a box at the precision limit; before any geometry
+  /// bisection), and the boxes enclosed that way.
+  std::size_t face_switches = 0;
+  std::size_t face_boxes = 0;
 };
 
 struct Progress {
