@@ -184,6 +184,8 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
   // Geometric uncertainty: the statistics and the first uncertainty-sensitive pose.
   out.geometry_switches = r.stats.geometry_switches;
   out.geometry_splits = r.stats.geometry_splits;
+  out.face_switches = r.stats.face_switches;
+  out.face_boxes = r.stats.face_boxes;
   out.sensitive_poses = r.sensitive_count;
   if (!r.sensitive.empty()) {
     const verify::SensitivePose& p = r.sensitive.front();

@@ -114,6 +114,8 @@ void fillCommonResponse(const Outcome& o, Response& res) {
   res.undecided_boxes_recorded = o.undecided_boxes_recorded;
   res.geometry_switches = o.geometry_switches;
   res.geometry_splits = o.geometry_splits;
+  res.face_switches = o.face_switches;
+  res.face_boxes = o.face_boxes;
   res.sensitive_poses = o.sensitive_poses;
   const SensitiveSummary& s = o.sensitive;
   res.sensitive_component = s.component;
