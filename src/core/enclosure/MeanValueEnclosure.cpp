@@ -11,7 +11,8 @@
 namespace pkm_accuracy {
 namespace enclosure {
 namespace {
-/// Faces per row and box: each certifies more directions on a smaller face (measured on the paper workspace).
+/// At most this many faces per row and box, each on the smaller face the previous one certified (on the probe's
+/// small boxes, bench/uncertainty_probe, the bound stops improving after 2-3).
 constexpr int kFaceIterations = 4;
 
 /// Second-order bound of f_k when the model has uncertain geometry parameters: the same identities as in the

@@ -249,6 +249,19 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
   return true;
 }
 
+void GoughPlatform::describe(const Parameter& q, double value, double half) {
+  if (q.kind == Parameter::Base) {
+    geometry_.base_anchors[q.leg][q.coord] = value;
+    geometry_.base_anchor_halfwidth[q.leg][q.coord] = half;
+  } else if (q.kind == Parameter::Platform) {
+    geometry_.platform_anchors[q.leg][q.coord] = value;
+    geometry_.platform_anchor_halfwidth[q.leg][q.coord] = half;
+  } else {
+    geometry_.tool_point[q.coord] = value;
+    geometry_.tool_point_halfwidth[q.coord] = half;
+  }
+}
+
 std::unique_ptr<RobotModel> GoughPlatform::fixGeometryParameters(const GVec& values) const {
   if (params_.empty()) return RobotModel::fixGeometryParameters(values);
   if (values.size() != static_cast<int>(params_.size())) {
@@ -274,16 +287,7 @@ std::unique_ptr<RobotModel> GoughPlatform::fixGeometryParameters(const GVec& val
     }
     out->slot(q, false) = Interval(v);
     out->slot(q, true) = Interval(v);
-    if (q.kind == Parameter::Base) {
-      out->geometry_.base_anchors[q.leg][q.coord] = v;
-      out->geometry_.base_anchor_halfwidth[q.leg][q.coord] = 0.0;
-    } else if (q.kind == Parameter::Platform) {
-      out->geometry_.platform_anchors[q.leg][q.coord] = v;
-      out->geometry_.platform_anchor_halfwidth[q.leg][q.coord] = 0.0;
-    } else {
-      out->geometry_.tool_point[q.coord] = v;
-      out->geometry_.tool_point_halfwidth[q.coord] = 0.0;
-    }
+    out->describe(q, v, 0.0);
   }
   out->uncertain_ = uncertain;
   return out;
@@ -312,17 +316,7 @@ std::unique_ptr<RobotModel> GoughPlatform::restrictGeometry(const std::vector<In
     // Keep the plain description in step (point evaluations in double use it): centre and a covering half-width.
     const double mid = r.mid();
     const double half = std::max(interval::rounding::subUp(mid, r.lower()), interval::rounding::subUp(r.upper(), mid));
-    const Parameter& q = params_[p];
-    if (q.kind == Parameter::Base) {
-      out->geometry_.base_anchors[q.leg][q.coord] = mid;
-      out->geometry_.base_anchor_halfwidth[q.leg][q.coord] = half;
-    } else if (q.kind == Parameter::Platform) {
-      out->geometry_.platform_anchors[q.leg][q.coord] = mid;
-      out->geometry_.platform_anchor_halfwidth[q.leg][q.coord] = half;
-    } else {
-      out->geometry_.tool_point[q.coord] = mid;
-      out->geometry_.tool_point_halfwidth[q.coord] = half;
-    }
+    out->describe(params_[p], mid, half);
   }
   out->uncertain_ = uncertain;
   return out;

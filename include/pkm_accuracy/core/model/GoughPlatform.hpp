@@ -68,6 +68,8 @@ class GoughPlatform final : public RobotModel {
   void chainRule(const DualPose& pose, const Anchors& a, const Anchors& b, const Tool& c,
                  MatrixWithGradient& out) const;
   Interval& slot(const Parameter& p, bool centre);
+  /// Sets the plain description (geometry_, used by the evaluations in double) of parameter p: value and half-width.
+  void describe(const Parameter& p, double value, double half);
   const Interval& slot(const Parameter& p, bool centre) const;
 
   // Anchors and tool point as intervals (degenerate when known exactly), used by the enclosures; and the same at
