@@ -157,21 +157,16 @@ bool encloseWithGeometry(const model::RobotModel& model, const BoxInput& box, un
     // Only where the bound is not good enough already (BoxInput::targets), f_k has no magnitude terms, and every
     // column of the row is in this batch.
     const bool enough = box.targets.size() == n && upper[k] <= box.targets[k];
-    const bool eligible = !(magnitudeTerms[k] || enough || m != columnsOfRow[k]);
+    int directions = magnitudeTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
     for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
-    auto findDirections = [&]() {
-      int found = params;
-      for (int q = 0; q < m && found > 0; ++q) {
-        act.monotoneDirections(nv, q, jSign, dir);
-        found = 0;
-        for (int p = 0; p < params; ++p) {
-          common[p] = q == 0 ? dir[p] : (common[p] == dir[p] ? dir[p] : 0.0);
-          found += common[p] != 0.0 ? 1 : 0;
-        }
+    for (int q = 0; q < m && directions > 0; ++q) {
+      act.monotoneDirections(nv, q, jSign, dir);
+      directions = 0;
+      for (int p = 0; p < params; ++p) {
+        common[p] = q == 0 ? dir[p] : (common[p] == dir[p] ? dir[p] : 0.0);
+        directions += common[p] != 0.0 ? 1 : 0;
       }
-      return found;
-    };
-    const int directions = eligible ? findDirections() : 0;
+    }
     if (directions > 0) {
       for (int p = 0; p < params; ++p) {
         if (common[p] > 0.0) out.faces.up[k] |= std::uint64_t(1) << p;
@@ -292,9 +287,10 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   // Components with certified geometry directions (box.faces) are bounded on their faces instead.
   if (secondOrder_ && model.geometryParameterCount() > 0 && model.hasGeometryUncertainty() && box.hasGradient) {
     const int params = model.geometryParameterCount();
+    const bool faces = box.useFaces && !onFace;
     unsigned faceRows = 0;
     for (int k = 0; k < n; ++k)
-      if (box.useFaces && !onFace && box.wants(k) && box.faces.any(k)) faceRows |= 1u << k;
+      if (faces && box.wants(k) && box.faces.any(k)) faceRows |= 1u << k;
     out.faces = box.faces;
     bool ok = true;
     if (box.rows & ~faceRows) {
@@ -310,7 +306,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
       // face, and on to the smaller faces the face certifies in turn, while the bound misses its target.
       const bool targeted = box.targets.size() == n;
       bool faced = false;
-      for (int k = 0; k < n && box.useFaces && !onFace; ++k) {
+      for (int k = 0; k < n && faces; ++k) {
         if (!box.wants(k)) continue;
         const bool inherited = (faceRows >> k) & 1u;
         if (inherited) out.lower[k] = 0.0;  // a bound on the face only: nothing about the other geometries
@@ -321,14 +317,13 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
         }
       }
       if (faced) {
-        double largest = 0.0;
+        // The bisection hint from the rows' smears, as encloseWithGeometry() makes it.
         DVec score = DVec::Zero(vars);
         for (int k = 0; k < n; ++k) {
           if (!box.wants(k)) continue;
           for (int i = 0; i < vars; ++i) score[i] = std::max(score[i], out.componentSmear(k, i));
         }
-        largest = vars > 0 ? score.maxCoeff() : 0.0;
-        if (largest > 0.0) out.splitScore = score;
+        if (vars > 0 && score.maxCoeff() > 0.0) out.splitScore = score;
       }
       return;
     }
