@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <mpfr.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/model/GoughPlatform.hpp"
 
 using namespace pkm_accuracy;
 using namespace pkm_accuracy::test;  // the MPFR reference toolkit (MpfrGough.hpp)
@@ -109,6 +111,60 @@ TEST(ErrorEnclosure, EveryMethodBoundsEveryPointOfRandomBoxes) {
   // The test must exercise bounded enclosures, not only +inf answers.
   EXPECT_GT(bounded, boxes / 2);
   EXPECT_GT(checkedMpfr, 100);
+}
+
+// With an exact geometry, second_order bounds boxes of 3 or more variables with the affine form of AffineInverseAction
+// (no geometry terms) instead of the interval-Gauss form it uses when the caller asks for the internals. The signs of
+// J it certifies (which a search hands down to sub-boxes) hold at every sampled pose, and both forms bound the
+// sampled errors.
+TEST(ErrorEnclosure, SecondOrderOnExactGeometryUsesTheAffineFormAndItsSignsHold) {
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const IVec whole = ws.initialBox();
+  const auto method = enclosure::makeEnclosure("second_order");
+  std::mt19937_64 rng(23);
+  int signsChecked = 0, compared = 0;
+  std::uniform_int_distribution<int> corner(0, 63);
+  for (int trial = 0; trial < 200; ++trial) {
+    // Boxes around workspace corners, where the errors are largest (the boxes the search has to refine).
+    DVec c(6);
+    const int v = corner(rng);
+    for (int i = 0; i < 6; ++i) c[i] = (v >> i) & 1 ? whole[i].upper() : whole[i].lower();
+    const double frac = std::pow(0.5, 4 + trial % 3);
+    IVec box(6);
+    for (int i = 0; i < 6; ++i) {
+      const double h = frac * 0.5 * (whole[i].upper() - whole[i].lower());
+      box[i] = Interval(c[i] - h, c[i] + h);
+    }
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::ErrorBounds affine, gauss;
+    method->enclose(robot, in, affine);
+    in.keepInternals = true;  // the interval-Gauss form (it fills the internals)
+    method->enclose(robot, in, gauss);
+    ASSERT_TRUE(gauss.internals.valid || !gauss.bounded());
+    EXPECT_FALSE(affine.internals.valid);
+    for (int k = 0; k < 6; ++k) compared += std::isfinite(affine.upper[k]) ? 1 : 0;
+    for (int s = 0; s < 5; ++s) {
+      const DVec q = test::randomPoint(box, rng);
+      const DVec f = robot.worstErrorAt(q);
+      for (int k = 0; k < 6; ++k) {
+        EXPECT_LE(f[k], affine.upper[k] * (1 + 1e-12)) << "trial " << trial << " k=" << k;
+        EXPECT_LE(f[k], gauss.upper[k] * (1 + 1e-12)) << "trial " << trial << " k=" << k;
+      }
+      const DMat j = robot.jacobian(q);
+      for (int k = 0; k < 6; ++k)
+        for (int l = 0; l < 6; ++l) {
+          const int bit = k * 6 + l;
+          if (!affine.signs.known(bit)) continue;
+          EXPECT_GT(affine.signs.sign(bit) * j(k, l), 0.0) << "trial " << trial << " entry " << k << "," << l;
+          ++signsChecked;
+        }
+    }
+  }
+  EXPECT_GT(signsChecked, 10000);
+  EXPECT_GT(compared, 1000);
 }
 
 TEST(ErrorEnclosure, BoxContainingASingularPoseIsUnbounded) {

@@ -67,17 +67,18 @@ void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
 
 }  // namespace
 
-bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box) {
+bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box, bool withGeometry) {
   n_ = model.dof();
   vars_ = box.variables;
-  params_ = model.geometryParameterCount();
-  if (params_ <= 0 || params_ > kMaxGeometryParameters) return false;
+  params_ = withGeometry ? model.geometryParameterCount() : 0;
+  if ((withGeometry && params_ <= 0) || params_ > kMaxGeometryParameters) return false;
   const IMat centre = model.inverseJacobianAtGeometryCentre(box.centrePose);
   if (!approximateInverse(midpoint(centre), c_)) return false;
   static thread_local GeometryDerivatives geo;
   // E(t, g) - E0 = [E(t, g) - E(t, g0)] + [E(t, g0) - E(t0, g0)]: geometry derivatives over the pose box and every
   // geometry, pose derivatives over the pose box at the centre geometry (both mean-value forms, exact).
-  if (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0) return false;
+  geo.count = 0;
+  if (withGeometry && (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0)) return false;
   static thread_local MatrixWithGradient poseD;
   if (vars_ > 0) model.inverseJacobianAtGeometryCentre(box.dualPose, poseD);
   entries_ = geo.count;

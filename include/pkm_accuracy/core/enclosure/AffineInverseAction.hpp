@@ -73,9 +73,11 @@ class AffineInverseAction {
   /// sum_j w[j] (N V)_kj for row k of an AffineMatrix (w: one exact weight per column).
   static void combine(const AffineMatrix& a, int k, const double* w, Combination& out);
 
-  /// Builds the expansion for a box (box.dualPose must be filled).
+  /// Builds the expansion for a box (box.dualPose must be filled). With withGeometry false, the expansion is in the
+  /// box variables only, of J^-1 at the centre of the geometry parameters (no geometry terms: the model's geometry
+  /// must then be exact for the forms to hold; also for models without parameters).
   /// @return false if it cannot be built: singular centre, no geometry derivatives, or sizes out of range.
-  bool prepare(const model::RobotModel& model, const BoxInput& box);
+  bool prepare(const model::RobotModel& model, const BoxInput& box, bool withGeometry = true);
 
   /// The preconditioner C (valid after prepare()).
   const DMat& preconditioner() const { return c_; }
