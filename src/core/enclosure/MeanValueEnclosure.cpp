@@ -17,8 +17,8 @@ constexpr int kFaceIterations = 4;
 
 /// Second-order bound of f_k from the affine forms of N V (AffineInverseAction). With uncertain geometry parameters
 /// the geometry enters as first-order terms too; with an exact geometry the expansion is in the box variables only
-/// (the same identities as the interval-Gauss form in encloseImpl(), but with the remainder bounded through a
-/// verified Neumann majorant of |N v| column by column, which measured tighter on the boxes the search keeps).
+/// (the same identities as the interval-Gauss form in encloseImpl(), the remainder bounded through a verified
+/// Neumann majorant of |N v| column by column; the search keeps far fewer boxes with it, docs/enclosures.md).
 /// J = N C is enclosed first (for the signs); then, with s_j the sign of J_kj where it is known,
 ///   f_k = sum_j |J_kj| e_j = max over the signs s_q of the undetermined entries of (N C w_s)_k,
 ///   w_s,j = s_j e_j,
@@ -285,6 +285,16 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   out.lower = DVec::Zero(n);
   out.splitScore = DVec::Constant(vars, 1.0);
   out.faces = GeometryFaces();
+  // What a failed encloseAffine() may have left (it sets splitScore only when it succeeds): the interval paths below
+  // start from scratch.
+  const auto discardAffine = [&out, n]() {
+    out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
+    out.lower = DVec::Zero(n);
+    out.componentSmear.resize(0, 0);
+    out.geometrySmear.resize(0, 0);
+    out.geometrySensitivity.resize(0, 0);
+    out.signs = SignPattern();
+  };
   // Uncertain geometry: the geometry-aware second-order form; the interval-coefficient path below only if it fails.
   // Components with certified geometry directions (box.faces) are bounded on their faces instead.
   if (secondOrder_ && model.geometryParameterCount() > 0 && model.hasGeometryUncertainty() && box.hasGradient) {
@@ -331,12 +341,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
     }
     out.faces = box.faces;
     // Fallback to interval coefficients: no geometry hints (empty, not zero: zero would read "nothing to split").
-    out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
-    out.lower = DVec::Zero(n);
-    out.componentSmear.resize(0, 0);
-    out.geometrySmear.resize(0, 0);
-    out.geometrySensitivity.resize(0, 0);
-    out.signs = SignPattern();
+    discardAffine();
   }
 
   // Exact geometry, boxes of 3 or more variables: the same affine second-order form without geometry terms, which
@@ -348,13 +353,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   if (secondOrder_ && !model.hasGeometryUncertainty() && box.hasGradient && !box.keepInternals &&
       vars >= kAffineFromVariables) {
     if (encloseAffine(model, box, box.rows, out)) return;
-    out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
-    out.lower = DVec::Zero(n);
-    out.componentSmear.resize(0, 0);
-    out.geometrySmear.resize(0, 0);
-    out.geometrySensitivity.resize(0, 0);
-    out.splitScore = DVec::Constant(vars, 1.0);
-    out.signs = SignPattern();
+    discardAffine();
   }
 
   MatrixWithGradient mg;
