@@ -14,10 +14,10 @@ namespace enclosure {
 //
 // With secondOrder (registry name "second_order", the default), a second bound of f_k is computed from the
 // identity N = I - E + E^2 N (E = C J^-1 - I): its first-order part keeps the cancellations between the terms of
-// sum_j |J_kj| e_j, its remainder is quadratic in the box size (see the .cpp); the tighter bound is returned. On
-// boxes of 3 or more variables (without BoxInput::keepInternals) that form is replaced by the affine forms of N V of
-// AffineInverseAction, with the geometry parameters as first-order terms when the geometry is uncertain and without
-// them when it is exact (docs/enclosures.md).
+// sum_j |J_kj| e_j, its remainder is quadratic in the box size (see the .cpp); the tighter bound is returned. With
+// uncertain geometry parameters, and for an exact geometry on boxes of 3 or more variables (without
+// BoxInput::keepInternals), the affine forms of N V of AffineInverseAction are used instead (with the geometry
+// parameters as first-order terms, resp. without them; docs/enclosures.md).
 // With uncertain geometry, a component whose monotonicity in some parameters was certified on a containing box
 // (BoxInput::faces) is bounded on that face of the geometry box, with those parameters fixed at their raising ends
 // (docs/uncertainty.md, "Faces").
