@@ -7,8 +7,10 @@
 // where every first-order term is exact per variable (the cancellations across legs are kept, unlike interval
 // coefficients, which widen every entry of E independently). The remainder splits E = S + L, S the pose part
 // (including E0) and L the geometry part, and bounds E^2 N v = S S y + S L y + L S y + L L y (y = N v) with
-//   |S S y| <= |S| |S| z,  z >= |y| from (I - |E|) z >= |v| (verified, so rho(|E|) < 1),
-//   |L S y| <= sum_p |C_{.,i(p)}| h_p |d_p^T S| z  (|d_p^T S| <= |d_p^T E0| + sum_i |d_p^T D_i| |t_i - t0_i|),
+//   |S S y| <= |S| |S y|,  z >= |y| from (I - |E|) z >= |v| (verified, so rho(|E|) < 1),
+//   |S y| <= min(|S| z, |S v| + |S| |y - v|)  (|S v| through the products D_i v, which keep their cancellations),
+//   |L S y| <= sum_p |C_{.,i(p)}| h_p min(|d_p^T S| z, |d_p| |S y|),
+//     |d_p^T S| <= |d_p^T E0| + sum_i |d_p^T D_i| |t_i - t0_i|,
 //   |S L y| <= |S C| B  (L y keeps its cancellations: B_j = sum over row j's parameters of |d_p . y| h_p),
 // and L L y through the structure of L: each parameter moves one row i of J^-1 (G_p = C e_i d_p^T, d_p the
 // derivative of that row), so (L L y)_k = sum_{p,q} C_ki(p) (d_p . C_{.,i(q)}) (d_q . y) dev_p dev_q keeps the
@@ -44,8 +46,10 @@ class AffineInverseAction {
     int rows = 0, cols = 0, vars = 0, params = 0;
     DMat centre, radius;
     std::array<DMat, kMaxDof> pose;  ///< pose[i](k, j)
-    /// The part of radius(k, j) due to the uncertainty of pose[i](k, j) itself (the derivative enclosure's radius
-    /// times the reach): with |pose| it is variable i's share of the width (bisection hints).
+    /// The part of radius(k, j) due to variable i: the uncertainty of pose[i](k, j) itself (the derivative
+    /// enclosure's radius times the reach) plus a share of the remainder's terms through the pose part S of E, in
+    /// proportion to i's part of |S| - |E0|. With |pose| it is variable i's share of the width (bisection hints);
+    /// the shares of all the variables add up to at most radius(k, j).
     std::array<DMat, kMaxDof> poseSpread;
     std::array<GMat, kMaxDof> geometry;  ///< geometry[j](k, p)
     /// For monotoneDirections() and upperOnFace(): d_e . v_j in midpoint-radius form, rho(e, j) >= |d_e . (y_j - v_j)|
@@ -119,9 +123,11 @@ class AffineInverseAction {
   double h_[kMaxGeometryParameters];     ///< |g_p - g0_p| <=
   DMat magE_, magS_, magE0_, absC_, q_;  ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
   DMat magSP_;                           ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
-  EntryMat magG_;                        ///< |d_e|
-  EntryMat dS_;                          ///< (e, l): >= |d_e^T S|_l, S = E0 + P
-  DMat sc_;                              ///< >= |S C|
+  DMat magE2_;                           ///< >= |E| |E|
+  std::array<DVec, kMaxDof> poseWeight_;  ///< row sums of |D_i| |dev_i| (bisection hints only)
+  EntryMat magG_;                         ///< |d_e|
+  EntryMat dS_;                           ///< (e, l): >= |d_e^T S|_l, S = E0 + P
+  DMat sc_;                               ///< >= |S C|
 };
 
 }  // namespace enclosure
