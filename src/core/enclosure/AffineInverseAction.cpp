@@ -236,8 +236,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   const DMat spread = upAll(DMat(delta + upAll(DMat(magE0_.lazyProduct(absV)))));
   // sy >= |S y| (S = E0 + P, the pose part of E) through y = v + (y - v): |S y| <= |S v| + |S| |y - v|, where
   // |S v| <= |E0 v| + sum_i |D_i v| |dev_i| keeps the cancellations inside S v (D_i v: the products the pose
-  // coefficients need anyway) and |y - v| <= spread is about a third of z on the boxes that matter. The bounds
-  // through |S| z below are valid too: the smaller is kept. (Paper workspace, 2 threads: 5% fewer boxes at +-0.5 mm,
+  // coefficients need anyway) and |y - v| <= spread is mostly well below z >= |y|. The bounds through |S| z below are
+  // valid too: the smaller is kept. (Paper workspace, 2 threads: 5% fewer boxes at +-0.5 mm,
   // with the hints below 11%, bench/RESULTS.md.)
   std::array<DMat, kMaxDof> dvm_i, dvr_i;  // D_i V, midpoint and radius
   for (int i = 0; i < vars_; ++i) {
@@ -303,7 +303,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
   // shrink with the pose box too, so each pose variable's poseSpread also gets a share of them, in proportion to its
   // part of |P| (row sums of |D_i| |dev_i|). The shares add up to at most these terms, so poseSpread stays a part of
-  // the radius. (Paper workspace, 2 threads: 5-6% fewer boxes, with and without anchor uncertainty.)
+  // the radius. (Paper workspace, 2 threads: 6-7% fewer boxes, with and without anchor uncertainty.)
   if (vars_ > 0) {
     const DMat poseRem = ssy + sly + lsy;
     for (int k = 0; k < n_; ++k) {
