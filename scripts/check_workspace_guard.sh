@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# scripts/build must refuse a workspace whose src/pkm_accuracy links to another checkout (and say which), and must
+# leave that link as it was. Registered as the ctest test workspace_guard. Runs no build: the check comes first.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$tmp/ws/src" "$tmp/other"
+ln -s "$tmp/other" "$tmp/ws/src/pkm_accuracy"
+set +e
+out="$(PKM_WS="$tmp/ws" bash "$ROOT/scripts/build" 2>&1)"
+rc=$?
+set -e
+if [ "$rc" -ne 2 ]; then
+  echo "workspace_guard: FAILED: scripts/build exited with $rc (expected 2) on a workspace of another checkout:" >&2
+  echo "$out" >&2
+  exit 1
+fi
+if ! grep -q "belongs to the checkout $tmp/other" <<<"$out"; then
+  echo "workspace_guard: FAILED: the message does not name the other checkout: $out" >&2
+  exit 1
+fi
+if [ "$(readlink "$tmp/ws/src/pkm_accuracy")" != "$tmp/other" ]; then
+  echo "workspace_guard: FAILED: the link was changed" >&2
+  exit 1
+fi
+echo "workspace_guard: ok ($out)"
