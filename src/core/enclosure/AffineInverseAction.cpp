@@ -41,9 +41,12 @@ void split(const IMat& a, M& m, M& r) {
 ///   r = up(|am| (br + gamma |bm|) + ar (|bm| + br))
 /// (plain loops, column by column with the rows innermost: these matrices are at most 64 x 6 times 6 x 6, too small
 /// for blocked GEMM, and Eigen's lazy products of dynamic sizes do not vectorise here).
-template <typename A, typename B, typename R>
-void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
-  const int rows = static_cast<int>(am.rows()), inner = static_cast<int>(am.cols()), cols = static_cast<int>(bm.cols());
+/// (kRows > 0: the row count known at compile time, so that the inner loops unroll; the same operations in the same
+/// order as with kRows = 0, i.e. bit-identical results.)
+template <int kRows, typename A, typename B, typename R>
+void productRows(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
+  const int rows = kRows > 0 ? kRows : static_cast<int>(am.rows());
+  const int inner = static_cast<int>(am.cols()), cols = static_cast<int>(bm.cols());
   m.setZero(rows, cols);
   r.setZero(rows, cols);
   for (int c = 0; c < cols; ++c) {
@@ -60,6 +63,15 @@ void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
       }
     }
     for (int i = 0; i < rows; ++i) rc[i] = up(rc[i]);
+  }
+}
+
+template <typename A, typename B, typename R>
+void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
+  if (am.rows() == 6) {
+    productRows<6>(am, ar, bm, br, m, r);  // the Gough platform's 6 x 6 products
+  } else {
+    productRows<0>(am, ar, bm, br, m, r);
   }
 }
 
@@ -107,6 +119,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     const GeometryRowDerivative& g = geo.entries[e];
     param_[e] = g.parameter;
     row_[e] = g.row;
+    entryH_[e] = h_[g.parameter];
     for (int l = 0; l < n_; ++l) split(g.d[l], gm_(e, l), gr_(e, l));
     for (int k = 0; k < n_; ++k) cg_(k, e) = c_(k, g.row);
   }
@@ -217,8 +230,11 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   DMat rowSum(n_, m);
   auto rowSums = [&](const EntryMat& x) -> const DMat& {
     rowSum.setZero();
-    for (int j = 0; j < m; ++j)
-      for (int e = 0; e < entries_; ++e) rowSum(row_[e], j) += h_[param_[e]] * x(e, j);
+    for (int j = 0; j < m; ++j) {
+      double* sum = &rowSum(0, j);
+      const double* column = &x(0, j);
+      for (int e = 0; e < entries_; ++e) sum[row_[e]] += entryH_[e] * column[e];
+    }
     rowSum = upAll(rowSum);
     return rowSum;
   };

@@ -121,6 +121,7 @@ class AffineInverseAction {
   int param_[kEntries];                  ///< parameter of each entry
   int row_[kEntries];                    ///< row of J^-1 each entry moves
   double h_[kMaxGeometryParameters];     ///< |g_p - g0_p| <=
+  double entryH_[kEntries];              ///< h_p of each entry's parameter
   DMat magE_, magS_, magE0_, absC_, q_;  ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
   DMat magSP_;                           ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
   DMat magE2_;                           ///< >= |E| |E|
