@@ -128,9 +128,11 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   out.geometrySensitivity = GMat::Zero(n, params);
   double upper[kMaxDof], lower[kMaxDof];
   static thread_local AffineInverseAction::Combination best[kMaxDof];
+  double atCentre[kMaxDof];  // the largest column's value estimate at the box centre (not certified)
   for (int k = 0; k < n; ++k) {
     upper[k] = -std::numeric_limits<double>::infinity();
     lower[k] = 0.0;
+    atCentre[k] = -std::numeric_limits<double>::infinity();
   }
   double unit[kMaxDof];
   // Monotonicity in the geometry: where f_k (the largest of its columns' functions, no magnitude terms) is certified
@@ -150,6 +152,14 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     for (int q = 0; q < m; ++q) {
       for (int j = 0; j < m; ++j) unit[j] = j == q ? 1.0 : 0.0;
       AffineInverseAction::combine(nv, k, unit, comb);
+      // At the box centre, over the geometries: the first-order terms' maximum G, plus G^2 / value for the
+      // second-order ones (measured: ~1.3% of f_k at +-1 mm, where G is 10-18% of it; G itself for a column whose
+      // value is not positive, a sign choice far from the row's maximum).
+      double first = 0.0;
+      for (int p = 0; p < comb.params; ++p) first += std::abs(comb.geometry[p]);
+      const double second = comb.centre > first ? first * first / comb.centre : first;
+      const double estimate = comb.centre + first + second;
+      atCentre[k] = std::max(atCentre[k], estimate);
       lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
       if (comb.upper() > upper[k]) {
         upper[k] = comb.upper();
@@ -182,8 +192,10 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   }
   double smear[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   double largest = 0.0;
+  out.centreEstimate = DVec::Constant(n, std::numeric_limits<double>::infinity());
   for (int k = 0; k < n; ++k) {
     if (!wants(k)) continue;
+    if (columnsOfRow[k] > 0) out.centreEstimate[k] = atCentre[k] + rest[k].upper();
     // (onFace only where there are no magnitude terms, i.e. rest = 0.)
     const double bound = std::min((Interval(upper[k]) + rest[k]).upper(), onFace[k]);
     out.lower[k] = std::max(out.lower[k], lower[k]);
@@ -279,6 +291,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   const int vars = box.variables;
   out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
   out.internals.valid = false;
+  out.centreEstimate.resize(0);
   out.componentSmear.resize(0, 0);
   out.geometrySmear.resize(0, 0);
   out.geometrySensitivity.resize(0, 0);
@@ -289,6 +302,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   // start from scratch.
   const auto discardAffine = [&out, n]() {
     out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
+    out.centreEstimate.resize(0);
     out.lower = DVec::Zero(n);
     out.componentSmear.resize(0, 0);
     out.geometrySmear.resize(0, 0);

@@ -94,6 +94,12 @@ struct ErrorBounds {
   /// raises the error).
   GMat geometrySmear;
   GMat geometrySensitivity;
+  /// Per component: an estimate, NOT certified, of the largest f_k over every admissible geometry at the box centre
+  /// (the affine form's value there plus its first-order geometry terms G, plus G^2 / value for the second-order
+  /// ones; second-order method, affine form only, else empty; +inf for components without one). For search
+  /// heuristics only: the verifier skips the certified centre evaluation of a box whose estimates are clearly below
+  /// the thresholds.
+  DVec centreEstimate;
   /// Every upper bound finite (of the components in `rows`, bit k: component k; see BoxInput::rows).
   bool bounded(unsigned rows = ~0u) const {
     if (upper.size() == 0) return false;
