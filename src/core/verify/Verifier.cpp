@@ -634,7 +634,9 @@ class Run {
     // component is certified over every geometry as well (an uncertainty-sensitive pose there rules SAFE out at once).
     if (options_.mode == Mode::Verify && params_ > 0) {
       for (int k = 0; k < n_; ++k) {
-        if (best[k] < 0.0) continue;
+        bool seen = best[k] < 0.0;  // (no point, or the same point as an earlier component's)
+        for (int j = 0; j < k && !seen; ++j) seen = best[j] >= 0.0 && bestPoint[j] == bestPoint[k];
+        if (seen) continue;
         evaluatePoint(bestPoint[k], thinBox(bestPoint[k]), thinBox(bestPoint[k]), false);
         if (haveWitness_ && options_.stop_at_first_witness) return;
       }
