@@ -15,12 +15,13 @@ namespace {
 //   |fl(A B) - A B| <= 1e-13 |A| |B|  (computed, also in floating point: the margin covers that),
 // and a non-negative quantity evaluated in floating point is bounded by up(its computed value).
 constexpr double kGamma = 1e-13;
-inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
+constexpr double kUpFactor = 1.0 + 1e-12, kUpFloor = 1e-300;
+inline double up(double x) { return x * kUpFactor + kUpFloor; }
 
 /// up() of every entry (as one array expression, so that it vectorises: the same operations per entry).
 template <typename M>
 M upAll(const M& m) {
-  return (m.array() * (1.0 + 1e-12) + 1e-300).matrix();
+  return (m.array() * kUpFactor + kUpFloor).matrix();
 }
 
 /// Midpoint and radius (rounded up) of an interval.
