@@ -213,3 +213,60 @@ TEST(GoughPlatform, AnalyticDerivativesAgreeWithDualNumbersAndChainRule) {
     }
   }
 }
+
+TEST(GoughPlatform, HessianEnclosuresContainSecondDerivatives) {
+  // Reference: central differences of the first derivatives by generic dual numbers (inverseJacobianByDualNumbers,
+  // an implementation independent of the analytic formulas) at points of the box; their error (truncation ~h^2,
+  // rounding ~1e-16 / h) is far below the tolerance, a wrong formula far above it.
+  io::RobotFile rf = test::ref6File();
+  rf.geometry.tool_point = Eigen::Vector3d(0.01, -0.02, 0.03);
+  const model::GoughPlatform robot(rf.geometry);
+  std::mt19937_64 rng(5);
+  const IVec ws = rf.workspaces.at("paper_40deg").initialBox();
+  auto derivativeAt = [&](const DVec& q, MatrixWithGradient& out) {
+    DualPose dp;
+    for (int i = 0; i < 6; ++i) dp[i] = DualI::variable(Interval(q[i]), i);
+    robot.inverseJacobianByDualNumbers(dp, out);
+  };
+  int checked = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const DVec c = test::randomPoint(ws, rng);
+    const double frac = std::pow(0.5, trial % 6);  // 1 .. 1/32 of the half-ranges, and thin boxes below
+    IVec box(6);
+    for (int i = 0; i < 6; ++i) {
+      const double h = trial % 10 == 9 ? 0.0 : frac * 0.25 * (ws[i].upper() - ws[i].lower());
+      box[i] = Interval(c[i] - h, c[i] + h);
+    }
+    MatrixHessian hess;
+    ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(box, hess));
+    for (int s = 0; s < 8; ++s) {
+      const DVec q = test::randomPoint(box, rng);
+      const double step = 1e-5;
+      for (int b = 0; b < 6; ++b) {
+        DVec qp = q, qm = q;
+        qp[b] += step;
+        qm[b] -= step;
+        MatrixWithGradient plus, minus;
+        derivativeAt(qp, plus);
+        derivativeAt(qm, minus);
+        for (int a = 0; a < 6; ++a) {
+          const IMat& h = hess.d[MatrixHessian::index(a, b)];
+          for (int r = 0; r < 6; ++r)
+            for (int col = 0; col < 6; ++col) {
+              const double fd = (plus.d[a](r, col).mid() - minus.d[a](r, col).mid()) / (2 * step);
+              EXPECT_LE(h(r, col).lower() - 1e-6, fd) << trial << " " << a << b << " " << r << col;
+              EXPECT_GE(h(r, col).upper() + 1e-6, fd) << trial << " " << a << b << " " << r << col;
+              ++checked;
+            }
+        }
+      }
+    }
+    if (box[0].isPoint()) {
+      // At a point the enclosure is tight (a wrong-but-wide enclosure would pass the containment above).
+      for (const IMat& h : hess.d)
+        for (int r = 0; r < 6; ++r)
+          for (int col = 0; col < 6; ++col) EXPECT_LT(h(r, col).width(), 1e-10);
+    }
+  }
+  EXPECT_EQ(checked, 60 * 8 * 6 * 6 * 36);
+}

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -41,6 +42,18 @@ using DualPose = std::array<DualI, kMaxDof>;
 struct MatrixWithGradient {
   IMat value;
   std::array<IMat, kMaxDof> d;
+};
+
+/// Enclosures over a box of the second derivatives of a matrix-valued function of the kMaxDof pose coordinates:
+/// d[index(a, b)] = d^2 M / dq_a dq_b (symmetric: one matrix per pair a <= b).
+struct MatrixHessian {
+  static constexpr int kPairs = kMaxDof * (kMaxDof + 1) / 2;
+  std::array<IMat, kPairs> d;
+  /// Index of the pair (a, b), either order (0 <= a, b < kMaxDof).
+  static int index(int a, int b) {
+    if (a > b) std::swap(a, b);
+    return a * kMaxDof - a * (a - 1) / 2 + (b - a);
+  }
 };
 
 /// Enclosure of the derivative of one row of J^-1 with respect to one uncertain geometry parameter (a parameter may

@@ -76,6 +76,15 @@ void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
   }
 }
 
+/// The box variables are the pose coordinates themselves (pose_i = t_i, as for workspace boxes).
+bool identityPoseMap(const BoxInput& box, int n) {
+  if (!box.hasGradient || box.variables != n) return false;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < kMaxDof; ++j)
+      if (box.dualPose[i].d(j) != Interval(i == j ? 1.0 : 0.0)) return false;
+  return true;
+}
+
 }  // namespace
 
 bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box, bool withGeometry) {
@@ -99,9 +108,48 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   split(e0, e0m_, e0r_);
   DMat magS = e0m_.cwiseAbs() + e0r_;
   magSP_ = DMat::Zero(n_, n_);
+  // Centred form of the pose derivatives: D_i(t) = C dJ^-1/dt_i(t) = D_i(t0) + sum_l C H_il(xi) (t_l - t0_l), xi in the
+  // box (entry by entry), so D_i over the box lies in D_i(t0) + sum_l [C H_il(box)] [-dev_l, dev_l]. C H keeps the
+  // cancellations between legs (C ~ J) that the direct enclosure C [dJ^-1/dt_i(box)] loses, where every leg's
+  // variation over the box adds up in magnitude: on boxes of 1/8 of every range at the paper workspace's corners the
+  // bounds of f_k drop from 22-104% to 5-26% above the sampled maxima (ErrorEnclosureTest), and the search keeps 8x
+  // fewer boxes. Both enclosures are valid: their intersection is kept. Only where the box variables are the pose
+  // coordinates themselves (workspace boxes; the Hessian is with respect to the pose) and the model provides it.
+  static thread_local MatrixHessian hessian;
+  static thread_local MatrixWithGradient centreD;
+  static thread_local std::array<DMat, MatrixHessian::kPairs> hm, hr;  // C H_il(box), midpoint and radius
+  bool centred =
+      vars_ == n_ && identityPoseMap(box, n_) && model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian);
+  if (centred) {
+    DualPose at;
+    for (int i = 0; i < kMaxDof; ++i) at[i] = i < n_ ? DualI::variable(box.centrePose[i], i) : DualI(0.0);
+    model.inverseJacobianAtGeometryCentre(at, centreD);
+    for (int p = 0; p < MatrixHessian::kPairs; ++p) centred = centred && hessian.d[p].rows() == n_;
+    for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) split(multiplyMidRad(c_, hessian.d[p]), hm[p], hr[p]);
+  }
   for (int i = 0; i < vars_; ++i) {
     split(multiplyMidRad(c_, poseD.d[i]), dm_[i], dr_[i]);
     devMag_[i] = box.deviation[i].mag();
+  }
+  for (int i = 0; i < vars_; ++i) {
+    if (centred) {
+      DMat cm, cr;
+      split(multiplyMidRad(c_, centreD.d[i]), cm, cr);
+      for (int l = 0; l < n_; ++l) {
+        const int p = MatrixHessian::index(i, l);
+        cr = upAll(DMat(cr + upAll(DMat((hm[p].cwiseAbs() + hr[p]) * devMag_[l]))));
+      }
+      // Intersection of [dm -+ dr] and [cm -+ cr] (both contain every D_i(t), t in the box).
+      for (int k = 0; k < n_; ++k) {
+        for (int l = 0; l < n_; ++l) {
+          using interval::rounding::addUp;
+          using interval::rounding::subDown;
+          const double lo = std::max(subDown(dm_[i](k, l), dr_[i](k, l)), subDown(cm(k, l), cr(k, l)));
+          const double hi = std::min(addUp(dm_[i](k, l), dr_[i](k, l)), addUp(cm(k, l), cr(k, l)));
+          if (lo <= hi) split(Interval(lo, hi), dm_[i](k, l), dr_[i](k, l));
+        }
+      }
+    }
     const DMat term = (dm_[i].cwiseAbs() + dr_[i]) * devMag_[i];
     poseWeight_[i] = term.rowwise().sum();
     magS += term;

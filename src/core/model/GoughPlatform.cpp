@@ -472,6 +472,156 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
   }
 }
 
+bool GoughPlatform::inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out) const {
+  hessian(pose, aMid_, bMid_, cMid_, out);
+  return true;
+}
+
+void GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
+                            MatrixHessian& out) const {
+  // Row i of J^-1 is (n, m) = (d / L, w / L), d = p + R b_i - A_i, u = R (b_i - c), w = u x d, L = |d|. With the
+  // first derivatives (as in derivatives()) L_a = n . d_a, n_a = (d_a - n L_a) / L, w_a = u_a x d + u x d_a,
+  // m_a = (w_a - m L_a) / L, differentiating once more:
+  //   L_ab = n_b . d_a + n . d_ab,
+  //   n_ab = (d_ab - n_b L_a - n_a L_b - n L_ab) / L,
+  //   w_ab = u_ab x d + u_a x d_b + u_b x d_a + u x d_ab,
+  //   m_ab = (w_ab - m_b L_a - m_a L_b - m L_ab) / L,
+  // where d_a = e_a, u_a = 0 for a translation, d_a = R_a b_i, u_a = R_a (b_i - c) for a rotation, and d_ab, u_ab
+  // vanish unless both are rotations: R_ab from R = Rz(yaw) Ry(pitch) Rx(roll),
+  //   R_roll v = R (e_x x v),  R_pitch = Rz Ry' Rx,  R_yaw v = e_z x (R v),
+  //   R_roll,roll v = R (e_x x (e_x x v)),  R_roll,pitch v = R_pitch (e_x x v),  R_roll,yaw v = e_z x (R (e_x x v)),
+  //   R_pitch,pitch = -R + (Rz e_y)(Rx^T e_y)^T,  R_pitch,yaw v = e_z x (R_pitch v),  R_yaw,yaw v = e_z x (e_z x (R
+  //   v)).
+  // Everything in interval arithmetic over the box (an enclosure of every second derivative there).
+  const Rotation rot(q);
+  const auto& r = rot.r;
+  const Interval &sr = rot.sr, &cr = rot.cr, &sp = rot.sp, &cp = rot.cp, &sy = rot.sy, &cy = rot.cy;
+  const Interval &cysp = rot.cysp, &sysp = rot.sysp;
+  const Interval cycp = cy * cp, sycp = sy * cp;
+  const Interval dp[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
+  const Interval zero(0.0), one(1.0);
+  for (auto& h : out.d) h = IMat::Constant(6, 6, zero);
+  auto mul = [](const Interval m[3][3], const Interval v[3], Interval o[3]) {
+    for (int k = 0; k < 3; ++k) o[k] = m[k][0] * v[0] + m[k][1] * v[1] + m[k][2] * v[2];
+  };
+  auto cross = [](const Interval x[3], const Interval y[3], Interval o[3]) {
+    o[0] = x[1] * y[2] - x[2] * y[1];
+    o[1] = x[2] * y[0] - x[0] * y[2];
+    o[2] = x[0] * y[1] - x[1] * y[0];
+  };
+  // R_a v for a rotation variable a (3: roll, 4: pitch, 5: yaw).
+  auto first = [&](int var, const Interval v[3], Interval o[3]) {
+    if (var == 3) {
+      const Interval w[3] = {zero, -v[2], v[1]};
+      mul(r, w, o);
+    } else if (var == 4) {
+      mul(dp, v, o);
+    } else {
+      Interval t[3];
+      mul(r, v, t);
+      o[0] = -t[1];
+      o[1] = t[0];
+      o[2] = zero;
+    }
+  };
+  // R_ab v for rotation variables 3 <= a <= b.
+  auto second = [&](int va, int vb, const Interval v[3], Interval o[3]) {
+    const Interval ex[3] = {zero, -v[2], v[1]};  // e_x x v
+    Interval t[3];
+    if (va == 3 && vb == 3) {
+      const Interval w[3] = {zero, -v[1], -v[2]};
+      mul(r, w, o);
+    } else if (va == 3 && vb == 4) {
+      mul(dp, ex, o);
+    } else if (va == 3) {  // (roll, yaw)
+      mul(r, ex, t);
+      o[0] = -t[1];
+      o[1] = t[0];
+      o[2] = zero;
+    } else if (vb == 4) {  // (pitch, pitch)
+      mul(r, v, t);
+      const Interval s = cr * v[1] - sr * v[2];
+      o[0] = -t[0] - sy * s;
+      o[1] = -t[1] + cy * s;
+      o[2] = -t[2];
+    } else if (va == 4) {  // (pitch, yaw)
+      mul(dp, v, t);
+      o[0] = -t[1];
+      o[1] = t[0];
+      o[2] = zero;
+    } else {  // (yaw, yaw)
+      mul(r, v, t);
+      o[0] = -t[0];
+      o[1] = -t[1];
+      o[2] = zero;
+    }
+  };
+  for (int i = 0; i < 6; ++i) {
+    const Interval bv[3] = {b[i][0], b[i][1], b[i][2]};
+    const Interval bc[3] = {b[i][0] - c[0], b[i][1] - c[1], b[i][2] - c[2]};
+    Interval rb[3], u[3], d[3], w[3], n[3], m[3];
+    mul(r, bv, rb);
+    mul(r, bc, u);
+    for (int k = 0; k < 3; ++k) d[k] = q[k] + rb[k] - a[i][k];
+    const Interval len = sqrt(sqr(d[0]) + sqr(d[1]) + sqr(d[2]));
+    const Interval inv = one / len;
+    cross(u, d, w);
+    for (int k = 0; k < 3; ++k) {
+      n[k] = d[k] * inv;
+      m[k] = w[k] * inv;
+    }
+    Interval da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
+    for (int va = 0; va < 6; ++va) {
+      if (va < 3) {
+        for (int k = 0; k < 3; ++k) {
+          da[va][k] = k == va ? one : zero;
+          ua[va][k] = zero;
+        }
+        la[va] = n[va];
+      } else {
+        first(va, bv, da[va]);
+        first(va, bc, ua[va]);
+        la[va] = n[0] * da[va][0] + n[1] * da[va][1] + n[2] * da[va][2];
+      }
+      Interval wa[3], t1[3], t2[3];
+      cross(ua[va], d, t1);
+      cross(u, da[va], t2);
+      for (int k = 0; k < 3; ++k) {
+        wa[k] = t1[k] + t2[k];
+        na[va][k] = (da[va][k] - n[k] * la[va]) * inv;
+        ma[va][k] = (wa[k] - m[k] * la[va]) * inv;
+      }
+    }
+    for (int va = 0; va < 6; ++va) {
+      for (int vb = va; vb < 6; ++vb) {
+        Interval dab[3] = {zero, zero, zero}, uab[3] = {zero, zero, zero};
+        const bool rotations = va >= 3;  // (va <= vb)
+        if (rotations) {
+          second(va, vb, bv, dab);
+          second(va, vb, bc, uab);
+        }
+        Interval lab = na[vb][0] * da[va][0] + na[vb][1] * da[va][1] + na[vb][2] * da[va][2];
+        if (rotations) lab += n[0] * dab[0] + n[1] * dab[1] + n[2] * dab[2];
+        Interval wab[3], t[3];
+        for (int k = 0; k < 3; ++k) wab[k] = zero;
+        auto add = [&](const Interval x[3], const Interval y[3]) {
+          cross(x, y, t);
+          for (int k = 0; k < 3; ++k) wab[k] += t[k];
+        };
+        if (rotations) add(uab, d);
+        if (vb >= 3) add(ua[va], da[vb]);  // u_a = 0 for a translation
+        if (vb >= 3) add(ua[vb], da[va]);
+        if (rotations) add(u, dab);
+        IMat& h = out.d[MatrixHessian::index(va, vb)];
+        for (int k = 0; k < 3; ++k) {
+          h(i, k) = (dab[k] - na[vb][k] * la[va] - na[va][k] * la[vb] - n[k] * lab) * inv;
+          h(i, 3 + k) = (wab[k] - ma[vb][k] * la[va] - ma[va][k] * la[vb] - m[k] * lab) * inv;
+        }
+      }
+    }
+  }
+}
+
 void GoughPlatform::inverseJacobianByDualNumbers(const DualPose& pose, MatrixWithGradient& out) const {
   DualI rows[6][6], len[6];
   goughKinematics(pose.data(), a_, b_, c_, rows, len);

@@ -39,6 +39,7 @@ class GoughPlatform final : public RobotModel {
   IMat inverseJacobianAtGeometryCentre(const IVec& pose) const override;
   void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override;
   bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
+  bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
   std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override;
 
@@ -65,6 +66,9 @@ class GoughPlatform final : public RobotModel {
   using Tool = std::array<Interval, 3>;
   /// poseDerivatives / inverseJacobian(DualPose) for given anchors and tool point.
   void derivatives(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixWithGradient& out) const;
+  /// Second derivatives of J^-1 with respect to (x, y, z, roll, pitch, yaw) over a pose box, analytic, for given
+  /// anchors and tool point.
+  void hessian(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixHessian& out) const;
   void chainRule(const DualPose& pose, const Anchors& a, const Anchors& b, const Tool& c,
                  MatrixWithGradient& out) const;
   Interval& slot(const Parameter& p, bool centre);
