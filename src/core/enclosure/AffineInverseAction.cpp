@@ -125,7 +125,12 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     for (int i = 0; i < kMaxDof; ++i) at[i] = i < n_ ? DualI::variable(box.centrePose[i], i) : DualI(0.0);
     model.inverseJacobianAtGeometryCentre(at, centreD);
     for (int p = 0; p < MatrixHessian::kPairs; ++p) centred = centred && hessian.d[p].rows() == n_;
-    for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) split(multiplyMidRad(c_, hessian.d[p]), hm[p], hr[p]);
+    const DMat zero = DMat::Zero(n_, n_);
+    DMat m, r;
+    for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) {
+      split(hessian.d[p], m, r);
+      product(c_, zero, m, r, hm[p], hr[p]);
+    }
   }
   for (int i = 0; i < vars_; ++i) {
     split(multiplyMidRad(c_, poseD.d[i]), dm_[i], dr_[i]);
@@ -133,8 +138,9 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   }
   for (int i = 0; i < vars_; ++i) {
     if (centred) {
-      DMat cm, cr;
-      split(multiplyMidRad(c_, centreD.d[i]), cm, cr);
+      DMat cm, cr, m, r;
+      split(centreD.d[i], m, r);
+      product(c_, DMat(DMat::Zero(n_, n_)), m, r, cm, cr);
       for (int l = 0; l < n_; ++l) {
         const int p = MatrixHessian::index(i, l);
         cr = upAll(DMat(cr + upAll(DMat((hm[p].cwiseAbs() + hr[p]) * devMag_[l]))));

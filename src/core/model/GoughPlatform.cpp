@@ -5,6 +5,7 @@
 
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
+#include "pkm_accuracy/core/interval/MidRad.hpp"
 
 namespace pkm_accuracy {
 namespace model {
@@ -473,11 +474,10 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
 }
 
 bool GoughPlatform::inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out) const {
-  hessian(pose, aMid_, bMid_, cMid_, out);
-  return true;
+  return hessian(pose, aMid_, bMid_, cMid_, out);
 }
 
-void GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
+bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
                             MatrixHessian& out) const {
   // Row i of J^-1 is (n, m) = (d / L, w / L), d = p + R b_i - A_i, u = R (b_i - c), w = u x d, L = |d|. With the
   // first derivatives (as in derivatives()) L_a = n . d_a, n_a = (d_a - n L_a) / L, w_a = u_a x d + u x d_a,
@@ -492,32 +492,42 @@ void GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
   //   R_roll,roll v = R (e_x x (e_x x v)),  R_roll,pitch v = R_pitch (e_x x v),  R_roll,yaw v = e_z x (R (e_x x v)),
   //   R_pitch,pitch = -R + (Rz e_y)(Rx^T e_y)^T,  R_pitch,yaw v = e_z x (R_pitch v),  R_yaw,yaw v = e_z x (e_z x (R
   //   v)).
-  // Everything in interval arithmetic over the box (an enclosure of every second derivative there).
+  // The rotation and each leg's d, u, L are enclosed in interval arithmetic over the box, then everything else in
+  // midpoint-radius arithmetic (interval::MidRad: rigorous, several times cheaper than endpoint intervals here; the
+  // operands are narrow) and converted back: an enclosure of every second derivative over the box.
+  using S = interval::MidRad;
   const Rotation rot(q);
-  const auto& r = rot.r;
-  const Interval &sr = rot.sr, &cr = rot.cr, &sp = rot.sp, &cp = rot.cp, &sy = rot.sy, &cy = rot.cy;
-  const Interval &cysp = rot.cysp, &sysp = rot.sysp;
-  const Interval cycp = cy * cp, sycp = sy * cp;
-  const Interval dp[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
-  const Interval zero(0.0), one(1.0);
-  for (auto& h : out.d) h = IMat::Constant(6, 6, zero);
-  auto mul = [](const Interval m[3][3], const Interval v[3], Interval o[3]) {
+  const Interval cycpI = rot.cy * rot.cp, sycpI = rot.sy * rot.cp;
+  const Interval dpI[3][3] = {{-rot.cysp, cycpI * rot.sr, cycpI * rot.cr},
+                              {-rot.sysp, sycpI * rot.sr, sycpI * rot.cr},
+                              {-rot.cp, -rot.sp * rot.sr, -rot.sp * rot.cr}};
+  S r[3][3], dp[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) {
+      r[k][l] = S(rot.r[k][l]);
+      dp[k][l] = S(dpI[k][l]);
+    }
+  const S sr(rot.sr), cr(rot.cr), sy(rot.sy), cy(rot.cy);
+  const S zero(0.0), one(1.0);
+  bool finite = true;
+  for (auto& h : out.d) h.resize(6, 6);
+  auto mul = [](const S m[3][3], const S v[3], S o[3]) {
     for (int k = 0; k < 3; ++k) o[k] = m[k][0] * v[0] + m[k][1] * v[1] + m[k][2] * v[2];
   };
-  auto cross = [](const Interval x[3], const Interval y[3], Interval o[3]) {
+  auto cross = [](const S x[3], const S y[3], S o[3]) {
     o[0] = x[1] * y[2] - x[2] * y[1];
     o[1] = x[2] * y[0] - x[0] * y[2];
     o[2] = x[0] * y[1] - x[1] * y[0];
   };
   // R_a v for a rotation variable a (3: roll, 4: pitch, 5: yaw).
-  auto first = [&](int var, const Interval v[3], Interval o[3]) {
+  auto first = [&](int var, const S v[3], S o[3]) {
     if (var == 3) {
-      const Interval w[3] = {zero, -v[2], v[1]};
+      const S w[3] = {zero, -v[2], v[1]};
       mul(r, w, o);
     } else if (var == 4) {
       mul(dp, v, o);
     } else {
-      Interval t[3];
+      S t[3];
       mul(r, v, t);
       o[0] = -t[1];
       o[1] = t[0];
@@ -525,11 +535,11 @@ void GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
     }
   };
   // R_ab v for rotation variables 3 <= a <= b.
-  auto second = [&](int va, int vb, const Interval v[3], Interval o[3]) {
-    const Interval ex[3] = {zero, -v[2], v[1]};  // e_x x v
-    Interval t[3];
+  auto second = [&](int va, int vb, const S v[3], S o[3]) {
+    const S ex[3] = {zero, -v[2], v[1]};  // e_x x v
+    S t[3];
     if (va == 3 && vb == 3) {
-      const Interval w[3] = {zero, -v[1], -v[2]};
+      const S w[3] = {zero, -v[1], -v[2]};
       mul(r, w, o);
     } else if (va == 3 && vb == 4) {
       mul(dp, ex, o);
@@ -540,7 +550,7 @@ void GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
       o[2] = zero;
     } else if (vb == 4) {  // (pitch, pitch)
       mul(r, v, t);
-      const Interval s = cr * v[1] - sr * v[2];
+      const S s = cr * v[1] - sr * v[2];
       o[0] = -t[0] - sy * s;
       o[1] = -t[1] + cy * s;
       o[2] = -t[2];
@@ -557,69 +567,93 @@ void GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
     }
   };
   for (int i = 0; i < 6; ++i) {
-    const Interval bv[3] = {b[i][0], b[i][1], b[i][2]};
-    const Interval bc[3] = {b[i][0] - c[0], b[i][1] - c[1], b[i][2] - c[2]};
-    Interval rb[3], u[3], d[3], w[3], n[3], m[3];
-    mul(r, bv, rb);
-    mul(r, bc, u);
-    for (int k = 0; k < 3; ++k) d[k] = q[k] + rb[k] - a[i][k];
-    const Interval len = sqrt(sqr(d[0]) + sqr(d[1]) + sqr(d[2]));
-    const Interval inv = one / len;
+    Interval dI[3], uI[3];
+    for (int k = 0; k < 3; ++k) {
+      dI[k] = q[k] + (rot.r[k][0] * b[i][0] + rot.r[k][1] * b[i][1] + rot.r[k][2] * b[i][2]) - a[i][k];
+      uI[k] = rot.r[k][0] * (b[i][0] - c[0]) + rot.r[k][1] * (b[i][1] - c[1]) + rot.r[k][2] * (b[i][2] - c[2]);
+    }
+    const Interval lenI = sqrt(sqr(dI[0]) + sqr(dI[1]) + sqr(dI[2]));
+    const S inv(Interval(1.0) / lenI);
+    const S bv[3] = {S(b[i][0]), S(b[i][1]), S(b[i][2])};
+    const S bc[3] = {S(b[i][0] - c[0]), S(b[i][1] - c[1]), S(b[i][2] - c[2])};
+    S u[3], d[3], w[3], n[3], m[3];
+    for (int k = 0; k < 3; ++k) {
+      d[k] = S(dI[k]);
+      u[k] = S(uI[k]);
+    }
     cross(u, d, w);
     for (int k = 0; k < 3; ++k) {
       n[k] = d[k] * inv;
       m[k] = w[k] * inv;
     }
-    Interval da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
+    S da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
+    // x cross e_a (a translation direction): no products.
+    auto crossUnit = [&](const S x[3], int axis, S o[3]) {
+      const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+      o[axis] = zero;
+      o[a1] = x[a2];
+      o[a2] = -x[a1];
+    };
     for (int va = 0; va < 6; ++va) {
+      S wa[3];
       if (va < 3) {
         for (int k = 0; k < 3; ++k) {
           da[va][k] = k == va ? one : zero;
           ua[va][k] = zero;
         }
         la[va] = n[va];
+        crossUnit(u, va, wa);  // w_a = u x e_a
       } else {
         first(va, bv, da[va]);
         first(va, bc, ua[va]);
         la[va] = n[0] * da[va][0] + n[1] * da[va][1] + n[2] * da[va][2];
+        S t1[3], t2[3];
+        cross(ua[va], d, t1);
+        cross(u, da[va], t2);
+        for (int k = 0; k < 3; ++k) wa[k] = t1[k] + t2[k];
       }
-      Interval wa[3], t1[3], t2[3];
-      cross(ua[va], d, t1);
-      cross(u, da[va], t2);
       for (int k = 0; k < 3; ++k) {
-        wa[k] = t1[k] + t2[k];
         na[va][k] = (da[va][k] - n[k] * la[va]) * inv;
         ma[va][k] = (wa[k] - m[k] * la[va]) * inv;
       }
     }
     for (int va = 0; va < 6; ++va) {
       for (int vb = va; vb < 6; ++vb) {
-        Interval dab[3] = {zero, zero, zero}, uab[3] = {zero, zero, zero};
-        const bool rotations = va >= 3;  // (va <= vb)
+        // (va <= vb) Translations have d_a = e_a, u_a = 0: d_ab = u_ab = 0 unless both are rotations, and the
+        // products with e_a are component selections.
+        const bool rotations = va >= 3;
+        S dab[3] = {zero, zero, zero}, uab[3] = {zero, zero, zero}, wab[3] = {zero, zero, zero};
+        S lab;
         if (rotations) {
           second(va, vb, bv, dab);
           second(va, vb, bc, uab);
+          lab = na[vb][0] * da[va][0] + na[vb][1] * da[va][1] + na[vb][2] * da[va][2] +
+                (n[0] * dab[0] + n[1] * dab[1] + n[2] * dab[2]);
+          S t[3];
+          auto add = [&](const S x[3], const S y[3]) {
+            cross(x, y, t);
+            for (int k = 0; k < 3; ++k) wab[k] += t[k];
+          };
+          add(uab, d);
+          add(ua[va], da[vb]);
+          add(ua[vb], da[va]);
+          add(u, dab);
+        } else {
+          lab = na[vb][va];
+          if (vb >= 3) crossUnit(ua[vb], va, wab);  // u_b x e_a (u_a = 0, d_ab = u_ab = 0)
         }
-        Interval lab = na[vb][0] * da[va][0] + na[vb][1] * da[va][1] + na[vb][2] * da[va][2];
-        if (rotations) lab += n[0] * dab[0] + n[1] * dab[1] + n[2] * dab[2];
-        Interval wab[3], t[3];
-        for (int k = 0; k < 3; ++k) wab[k] = zero;
-        auto add = [&](const Interval x[3], const Interval y[3]) {
-          cross(x, y, t);
-          for (int k = 0; k < 3; ++k) wab[k] += t[k];
-        };
-        if (rotations) add(uab, d);
-        if (vb >= 3) add(ua[va], da[vb]);  // u_a = 0 for a translation
-        if (vb >= 3) add(ua[vb], da[va]);
-        if (rotations) add(u, dab);
         IMat& h = out.d[MatrixHessian::index(va, vb)];
         for (int k = 0; k < 3; ++k) {
-          h(i, k) = (dab[k] - na[vb][k] * la[va] - na[va][k] * la[vb] - n[k] * lab) * inv;
-          h(i, 3 + k) = (wab[k] - ma[vb][k] * la[va] - ma[va][k] * la[vb] - m[k] * lab) * inv;
+          const S hn = (dab[k] - na[vb][k] * la[va] - na[va][k] * la[vb] - n[k] * lab) * inv;
+          const S hm = (wab[k] - ma[vb][k] * la[va] - ma[va][k] * la[vb] - m[k] * lab) * inv;
+          finite = finite && hn.finite() && hm.finite();
+          h(i, k) = hn.toInterval();
+          h(i, 3 + k) = hm.toInterval();
         }
       }
     }
   }
+  return finite;
 }
 
 void GoughPlatform::inverseJacobianByDualNumbers(const DualPose& pose, MatrixWithGradient& out) const {

@@ -67,8 +67,8 @@ class GoughPlatform final : public RobotModel {
   /// poseDerivatives / inverseJacobian(DualPose) for given anchors and tool point.
   void derivatives(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixWithGradient& out) const;
   /// Second derivatives of J^-1 with respect to (x, y, z, roll, pitch, yaw) over a pose box, analytic, for given
-  /// anchors and tool point.
-  void hessian(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixHessian& out) const;
+  /// anchors and tool point. @return false if some value is not finite (a degenerate leg).
+  bool hessian(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixHessian& out) const;
   void chainRule(const DualPose& pose, const Anchors& a, const Anchors& b, const Tool& c,
                  MatrixWithGradient& out) const;
   Interval& slot(const Parameter& p, bool centre);
