@@ -95,6 +95,143 @@ struct Rotation {
           {-sp, cp * sr, cp * cr}} {}
 };
 
+/// Midpoint-radius rotation pieces over a pose box: R, R_pitch, and the first and second derivatives of R v.
+struct RotationMR {
+  using S = interval::MidRad;
+  S r[3][3], dp[3][3], sr, cr, sy, cy;
+  S zero{0.0}, one{1.0};
+  explicit RotationMR(const Rotation& rot) {
+    const Interval cycp = rot.cy * rot.cp, sycp = rot.sy * rot.cp;
+    const Interval dpI[3][3] = {{-rot.cysp, cycp * rot.sr, cycp * rot.cr},
+                                {-rot.sysp, sycp * rot.sr, sycp * rot.cr},
+                                {-rot.cp, -rot.sp * rot.sr, -rot.sp * rot.cr}};
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) {
+        r[k][l] = S(rot.r[k][l]);
+        dp[k][l] = S(dpI[k][l]);
+      }
+    sr = S(rot.sr);
+    cr = S(rot.cr);
+    sy = S(rot.sy);
+    cy = S(rot.cy);
+  }
+  static void mul(const S m[3][3], const S v[3], S o[3]) {
+    for (int k = 0; k < 3; ++k) o[k] = m[k][0] * v[0] + m[k][1] * v[1] + m[k][2] * v[2];
+  }
+  static void cross(const S x[3], const S y[3], S o[3]) {
+    o[0] = x[1] * y[2] - x[2] * y[1];
+    o[1] = x[2] * y[0] - x[0] * y[2];
+    o[2] = x[0] * y[1] - x[1] * y[0];
+  }
+  /// x cross e_axis (no products).
+  void crossUnit(const S x[3], int axis, S o[3]) const {
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    o[axis] = zero;
+    o[a1] = x[a2];
+    o[a2] = -x[a1];
+  }
+  /// R_a v for a rotation variable a (3: roll, 4: pitch, 5: yaw).
+  void first(int var, const S v[3], S o[3]) const {
+    if (var == 3) {
+      const S w[3] = {zero, -v[2], v[1]};
+      mul(r, w, o);
+    } else if (var == 4) {
+      mul(dp, v, o);
+    } else {
+      S t[3];
+      mul(r, v, t);
+      o[0] = -t[1];
+      o[1] = t[0];
+      o[2] = zero;
+    }
+  }
+  /// R_ab v for rotation variables 3 <= a <= b.
+  void second(int va, int vb, const S v[3], S o[3]) const {
+    const S ex[3] = {zero, -v[2], v[1]};  // e_x x v
+    S t[3];
+    if (va == 3 && vb == 3) {
+      const S w[3] = {zero, -v[1], -v[2]};
+      mul(r, w, o);
+    } else if (va == 3 && vb == 4) {
+      mul(dp, ex, o);
+    } else if (va == 3) {  // (roll, yaw)
+      mul(r, ex, t);
+      o[0] = -t[1];
+      o[1] = t[0];
+      o[2] = zero;
+    } else if (vb == 4) {  // (pitch, pitch)
+      mul(r, v, t);
+      const S s = cr * v[1] - sr * v[2];
+      o[0] = -t[0] - sy * s;
+      o[1] = -t[1] + cy * s;
+      o[2] = -t[2];
+    } else if (va == 4) {  // (pitch, yaw)
+      mul(dp, v, t);
+      o[0] = -t[1];
+      o[1] = t[0];
+      o[2] = zero;
+    } else {  // (yaw, yaw)
+      mul(r, v, t);
+      o[0] = -t[0];
+      o[1] = -t[1];
+      o[2] = zero;
+    }
+  }
+};
+
+/// One leg over a pose box, midpoint-radius: d = p + R b - A, u = R (b - c), w = u x d, n = d / L, m = w / L,
+/// inv = 1 / L (d, u, L from endpoint intervals), and their first derivatives with respect to the six pose
+/// coordinates: d_a, u_a, L_a = n . d_a, n_a = (d_a - n L_a) / L, m_a = (u_a x d + u x d_a - m L_a) / L.
+struct LegMR {
+  using S = interval::MidRad;
+  S bv[3], bc[3], d[3], u[3], w[3], n[3], m[3], inv;
+  S da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
+  LegMR(const Rotation& rot, const RotationMR& rm, const IVec& q, const std::array<Interval, 3>& a,
+        const std::array<Interval, 3>& b, const std::array<Interval, 3>& c) {
+    Interval dI[3], uI[3];
+    for (int k = 0; k < 3; ++k) {
+      dI[k] = q[k] + (rot.r[k][0] * b[0] + rot.r[k][1] * b[1] + rot.r[k][2] * b[2]) - a[k];
+      uI[k] = rot.r[k][0] * (b[0] - c[0]) + rot.r[k][1] * (b[1] - c[1]) + rot.r[k][2] * (b[2] - c[2]);
+    }
+    const Interval lenI = sqrt(sqr(dI[0]) + sqr(dI[1]) + sqr(dI[2]));
+    inv = S(Interval(1.0) / lenI);
+    for (int k = 0; k < 3; ++k) {
+      bv[k] = S(b[k]);
+      bc[k] = S(b[k] - c[k]);
+      d[k] = S(dI[k]);
+      u[k] = S(uI[k]);
+    }
+    RotationMR::cross(u, d, w);
+    for (int k = 0; k < 3; ++k) {
+      n[k] = d[k] * inv;
+      m[k] = w[k] * inv;
+    }
+    for (int va = 0; va < 6; ++va) {
+      S wa[3];
+      if (va < 3) {
+        for (int k = 0; k < 3; ++k) {
+          da[va][k] = k == va ? rm.one : rm.zero;
+          ua[va][k] = rm.zero;
+        }
+        la[va] = n[va];
+        rm.crossUnit(u, va, wa);  // w_a = u x e_a
+      } else {
+        rm.first(va, bv, da[va]);
+        rm.first(va, bc, ua[va]);
+        la[va] = n[0] * da[va][0] + n[1] * da[va][1] + n[2] * da[va][2];
+        S t1[3], t2[3];
+        RotationMR::cross(ua[va], d, t1);
+        RotationMR::cross(u, da[va], t2);
+        for (int k = 0; k < 3; ++k) wa[k] = t1[k] + t2[k];
+      }
+      for (int k = 0; k < 3; ++k) {
+        na[va][k] = (da[va][k] - n[k] * la[va]) * inv;
+        ma[va][k] = (wa[k] - m[k] * la[va]) * inv;
+      }
+    }
+  }
+};
+
 }  // namespace
 
 GoughPlatform::GoughPlatform(GoughGeometry geometry) : geometry_(std::move(geometry)) {
@@ -480,143 +617,40 @@ bool GoughPlatform::inverseJacobianHessianAtGeometryCentre(const IVec& pose, Mat
 bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
                             MatrixHessian& out) const {
   // Row i of J^-1 is (n, m) = (d / L, w / L), d = p + R b_i - A_i, u = R (b_i - c), w = u x d, L = |d|. With the
-  // first derivatives (as in derivatives()) L_a = n . d_a, n_a = (d_a - n L_a) / L, w_a = u_a x d + u x d_a,
-  // m_a = (w_a - m L_a) / L, differentiating once more:
+  // first derivatives (LegMR) L_a = n . d_a, n_a = (d_a - n L_a) / L, w_a = u_a x d + u x d_a, m_a = (w_a - m L_a) / L,
+  // differentiating once more:
   //   L_ab = n_b . d_a + n . d_ab,
   //   n_ab = (d_ab - n_b L_a - n_a L_b - n L_ab) / L,
   //   w_ab = u_ab x d + u_a x d_b + u_b x d_a + u x d_ab,
   //   m_ab = (w_ab - m_b L_a - m_a L_b - m L_ab) / L,
   // where d_a = e_a, u_a = 0 for a translation, d_a = R_a b_i, u_a = R_a (b_i - c) for a rotation, and d_ab, u_ab
-  // vanish unless both are rotations: R_ab from R = Rz(yaw) Ry(pitch) Rx(roll),
+  // vanish unless both are rotations: R_ab from R = Rz(yaw) Ry(pitch) Rx(roll) (RotationMR),
   //   R_roll v = R (e_x x v),  R_pitch = Rz Ry' Rx,  R_yaw v = e_z x (R v),
   //   R_roll,roll v = R (e_x x (e_x x v)),  R_roll,pitch v = R_pitch (e_x x v),  R_roll,yaw v = e_z x (R (e_x x v)),
-  //   R_pitch,pitch = -R + (Rz e_y)(Rx^T e_y)^T,  R_pitch,yaw v = e_z x (R_pitch v),  R_yaw,yaw v = e_z x (e_z x (R
-  //   v)).
+  //   R_pitch,pitch = -R + (Rz e_y)(Rx^T e_y)^T,  R_pitch,yaw v = e_z x (R_pitch v),  R_yaw,yaw v = e_z x (e_z x R v).
   // The rotation and each leg's d, u, L are enclosed in interval arithmetic over the box, then everything else in
   // midpoint-radius arithmetic (interval::MidRad: rigorous, several times cheaper than endpoint intervals here; the
   // operands are narrow) and converted back: an enclosure of every second derivative over the box.
   using S = interval::MidRad;
   const Rotation rot(q);
-  const Interval cycpI = rot.cy * rot.cp, sycpI = rot.sy * rot.cp;
-  const Interval dpI[3][3] = {{-rot.cysp, cycpI * rot.sr, cycpI * rot.cr},
-                              {-rot.sysp, sycpI * rot.sr, sycpI * rot.cr},
-                              {-rot.cp, -rot.sp * rot.sr, -rot.sp * rot.cr}};
-  S r[3][3], dp[3][3];
-  for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < 3; ++l) {
-      r[k][l] = S(rot.r[k][l]);
-      dp[k][l] = S(dpI[k][l]);
-    }
-  const S sr(rot.sr), cr(rot.cr), sy(rot.sy), cy(rot.cy);
-  const S zero(0.0), one(1.0);
+  const RotationMR rm(rot);
+  const S& zero = rm.zero;
   bool finite = true;
   for (auto& h : out.d) h.resize(6, 6);
-  auto mul = [](const S m[3][3], const S v[3], S o[3]) {
-    for (int k = 0; k < 3; ++k) o[k] = m[k][0] * v[0] + m[k][1] * v[1] + m[k][2] * v[2];
-  };
-  auto cross = [](const S x[3], const S y[3], S o[3]) {
-    o[0] = x[1] * y[2] - x[2] * y[1];
-    o[1] = x[2] * y[0] - x[0] * y[2];
-    o[2] = x[0] * y[1] - x[1] * y[0];
-  };
-  // R_a v for a rotation variable a (3: roll, 4: pitch, 5: yaw).
-  auto first = [&](int var, const S v[3], S o[3]) {
-    if (var == 3) {
-      const S w[3] = {zero, -v[2], v[1]};
-      mul(r, w, o);
-    } else if (var == 4) {
-      mul(dp, v, o);
-    } else {
-      S t[3];
-      mul(r, v, t);
-      o[0] = -t[1];
-      o[1] = t[0];
-      o[2] = zero;
-    }
-  };
-  // R_ab v for rotation variables 3 <= a <= b.
-  auto second = [&](int va, int vb, const S v[3], S o[3]) {
-    const S ex[3] = {zero, -v[2], v[1]};  // e_x x v
-    S t[3];
-    if (va == 3 && vb == 3) {
-      const S w[3] = {zero, -v[1], -v[2]};
-      mul(r, w, o);
-    } else if (va == 3 && vb == 4) {
-      mul(dp, ex, o);
-    } else if (va == 3) {  // (roll, yaw)
-      mul(r, ex, t);
-      o[0] = -t[1];
-      o[1] = t[0];
-      o[2] = zero;
-    } else if (vb == 4) {  // (pitch, pitch)
-      mul(r, v, t);
-      const S s = cr * v[1] - sr * v[2];
-      o[0] = -t[0] - sy * s;
-      o[1] = -t[1] + cy * s;
-      o[2] = -t[2];
-    } else if (va == 4) {  // (pitch, yaw)
-      mul(dp, v, t);
-      o[0] = -t[1];
-      o[1] = t[0];
-      o[2] = zero;
-    } else {  // (yaw, yaw)
-      mul(r, v, t);
-      o[0] = -t[0];
-      o[1] = -t[1];
-      o[2] = zero;
-    }
-  };
   for (int i = 0; i < 6; ++i) {
-    Interval dI[3], uI[3];
-    for (int k = 0; k < 3; ++k) {
-      dI[k] = q[k] + (rot.r[k][0] * b[i][0] + rot.r[k][1] * b[i][1] + rot.r[k][2] * b[i][2]) - a[i][k];
-      uI[k] = rot.r[k][0] * (b[i][0] - c[0]) + rot.r[k][1] * (b[i][1] - c[1]) + rot.r[k][2] * (b[i][2] - c[2]);
-    }
-    const Interval lenI = sqrt(sqr(dI[0]) + sqr(dI[1]) + sqr(dI[2]));
-    const S inv(Interval(1.0) / lenI);
-    const S bv[3] = {S(b[i][0]), S(b[i][1]), S(b[i][2])};
-    const S bc[3] = {S(b[i][0] - c[0]), S(b[i][1] - c[1]), S(b[i][2] - c[2])};
-    S u[3], d[3], w[3], n[3], m[3];
-    for (int k = 0; k < 3; ++k) {
-      d[k] = S(dI[k]);
-      u[k] = S(uI[k]);
-    }
-    cross(u, d, w);
-    for (int k = 0; k < 3; ++k) {
-      n[k] = d[k] * inv;
-      m[k] = w[k] * inv;
-    }
-    S da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
-    // x cross e_a (a translation direction): no products.
-    auto crossUnit = [&](const S x[3], int axis, S o[3]) {
-      const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-      o[axis] = zero;
-      o[a1] = x[a2];
-      o[a2] = -x[a1];
-    };
-    for (int va = 0; va < 6; ++va) {
-      S wa[3];
-      if (va < 3) {
-        for (int k = 0; k < 3; ++k) {
-          da[va][k] = k == va ? one : zero;
-          ua[va][k] = zero;
-        }
-        la[va] = n[va];
-        crossUnit(u, va, wa);  // w_a = u x e_a
-      } else {
-        first(va, bv, da[va]);
-        first(va, bc, ua[va]);
-        la[va] = n[0] * da[va][0] + n[1] * da[va][1] + n[2] * da[va][2];
-        S t1[3], t2[3];
-        cross(ua[va], d, t1);
-        cross(u, da[va], t2);
-        for (int k = 0; k < 3; ++k) wa[k] = t1[k] + t2[k];
-      }
-      for (int k = 0; k < 3; ++k) {
-        na[va][k] = (da[va][k] - n[k] * la[va]) * inv;
-        ma[va][k] = (wa[k] - m[k] * la[va]) * inv;
-      }
-    }
+    const LegMR leg(rot, rm, q, a[i], b[i], c);
+    const S(&d)[3] = leg.d;
+    const S(&u)[3] = leg.u;
+    const S(&n)[3] = leg.n;
+    const S(&m)[3] = leg.m;
+    const S& inv = leg.inv;
+    const S(&bv)[3] = leg.bv;
+    const S(&bc)[3] = leg.bc;
+    const auto& da = leg.da;
+    const auto& ua = leg.ua;
+    const auto& la = leg.la;
+    const auto& na = leg.na;
+    const auto& ma = leg.ma;
     for (int va = 0; va < 6; ++va) {
       for (int vb = va; vb < 6; ++vb) {
         // (va <= vb) Translations have d_a = e_a, u_a = 0: d_ab = u_ab = 0 unless both are rotations, and the
@@ -625,13 +659,13 @@ bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
         S dab[3] = {zero, zero, zero}, uab[3] = {zero, zero, zero}, wab[3] = {zero, zero, zero};
         S lab;
         if (rotations) {
-          second(va, vb, bv, dab);
-          second(va, vb, bc, uab);
+          rm.second(va, vb, bv, dab);
+          rm.second(va, vb, bc, uab);
           lab = na[vb][0] * da[va][0] + na[vb][1] * da[va][1] + na[vb][2] * da[va][2] +
                 (n[0] * dab[0] + n[1] * dab[1] + n[2] * dab[2]);
           S t[3];
           auto add = [&](const S x[3], const S y[3]) {
-            cross(x, y, t);
+            RotationMR::cross(x, y, t);
             for (int k = 0; k < 3; ++k) wab[k] += t[k];
           };
           add(uab, d);
@@ -640,7 +674,7 @@ bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
           add(u, dab);
         } else {
           lab = na[vb][va];
-          if (vb >= 3) crossUnit(ua[vb], va, wab);  // u_b x e_a (u_a = 0, d_ab = u_ab = 0)
+          if (vb >= 3) rm.crossUnit(ua[vb], va, wab);  // u_b x e_a (u_a = 0, d_ab = u_ab = 0)
         }
         IMat& h = out.d[MatrixHessian::index(va, vb)];
         for (int k = 0; k < 3; ++k) {
