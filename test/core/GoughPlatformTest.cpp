@@ -241,6 +241,15 @@ TEST(GoughPlatform, HessianEnclosuresContainSecondDerivatives) {
     ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(box, hess));
     for (int s = 0; s < 8; ++s) {
       const DVec q = test::randomPoint(box, rng);
+      // The first derivatives it also returns contain the dual-number ones at the point.
+      MatrixWithGradient at;
+      derivativeAt(q, at);
+      for (int a = 0; a < 6; ++a)
+        for (int r = 0; r < 6; ++r)
+          for (int col = 0; col < 6; ++col) {
+            EXPECT_LE(hess.first[a](r, col).lower(), at.d[a](r, col).upper()) << trial << " " << a;
+            EXPECT_GE(hess.first[a](r, col).upper(), at.d[a](r, col).lower()) << trial << " " << a;
+          }
       const double step = 1e-5;
       for (int b = 0; b < 6; ++b) {
         DVec qp = q, qm = q;
@@ -262,10 +271,18 @@ TEST(GoughPlatform, HessianEnclosuresContainSecondDerivatives) {
       }
     }
     if (box[0].isPoint()) {
-      // At a point the enclosure is tight (a wrong-but-wide enclosure would pass the containment above).
+      // At a point the enclosures are tight (a wrong-but-wide enclosure would pass the containment above).
       for (const IMat& h : hess.d)
         for (int r = 0; r < 6; ++r)
           for (int col = 0; col < 6; ++col) EXPECT_LT(h(r, col).width(), 1e-10);
+      for (const IMat& f : hess.first)
+        for (int r = 0; r < 6; ++r)
+          for (int col = 0; col < 6; ++col) EXPECT_LT(f(r, col).width(), 1e-12);
+      // Without the second derivatives: the same first ones, no second ones.
+      MatrixHessian firstOnly;
+      ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(box, firstOnly, false));
+      EXPECT_EQ(firstOnly.d[0].rows(), 0);
+      for (int a = 0; a < 6; ++a) EXPECT_TRUE(firstOnly.first[a] == hess.first[a]);
     }
   }
   EXPECT_EQ(checked, 60 * 8 * 6 * 6 * 36);

@@ -44,10 +44,11 @@ struct MatrixWithGradient {
   std::array<IMat, kMaxDof> d;
 };
 
-/// Enclosures over a box of the second derivatives of a matrix-valued function of the kMaxDof pose coordinates:
-/// d[index(a, b)] = d^2 M / dq_a dq_b (symmetric: one matrix per pair a <= b).
+/// Enclosures over a box of the first and second derivatives of a matrix-valued function of the kMaxDof pose
+/// coordinates: first[a] = dM / dq_a, d[index(a, b)] = d^2 M / dq_a dq_b (symmetric: one matrix per pair a <= b).
 struct MatrixHessian {
   static constexpr int kPairs = kMaxDof * (kMaxDof + 1) / 2;
+  std::array<IMat, kMaxDof> first;
   std::array<IMat, kPairs> d;
   /// Index of the pair (a, b), either order (0 <= a, b < kMaxDof).
   static int index(int a, int b) {

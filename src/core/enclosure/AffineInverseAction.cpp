@@ -99,8 +99,6 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // geometry, pose derivatives over the pose box at the centre geometry (both mean-value forms, exact).
   geo.count = 0;
   if (withGeometry && (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0)) return false;
-  static thread_local MatrixWithGradient poseD;
-  if (vars_ > 0) model.inverseJacobianAtGeometryCentre(box.dualPose, poseD);
   entries_ = geo.count;
 
   IMat e0 = multiplyMidRad(c_, centre);
@@ -115,16 +113,18 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // bounds of f_k drop from 22-104% to 5-26% above the sampled maxima (ErrorEnclosureTest), and the search keeps 8x
   // fewer boxes. Both enclosures are valid: their intersection is kept. Only where the box variables are the pose
   // coordinates themselves (workspace boxes; the Hessian is with respect to the pose) and the model provides it.
-  static thread_local MatrixHessian hessian;
-  static thread_local MatrixWithGradient centreD;
+  // (The model's Hessian call also gives the first derivatives over the box, and a second call those at the centre,
+  // both in place of the dual-number evaluation of the direct path.)
+  static thread_local MatrixHessian hessian, atCentre;
+  static thread_local MatrixWithGradient poseD;
   static thread_local std::array<DMat, MatrixHessian::kPairs> hm, hr;  // C H_il(box), midpoint and radius
-  bool centred =
-      vars_ == n_ && identityPoseMap(box, n_) && model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian);
+  bool centred = vars_ == n_ && identityPoseMap(box, n_) &&
+                 model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian) &&
+                 model.inverseJacobianHessianAtGeometryCentre(box.centrePose, atCentre, false);
+  for (int i = 0; i < vars_ && centred; ++i) centred = hessian.first[i].rows() == n_ && atCentre.first[i].rows() == n_;
+  for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) centred = hessian.d[p].rows() == n_;
+  if (vars_ > 0 && !centred) model.inverseJacobianAtGeometryCentre(box.dualPose, poseD);
   if (centred) {
-    DualPose at;
-    for (int i = 0; i < kMaxDof; ++i) at[i] = i < n_ ? DualI::variable(box.centrePose[i], i) : DualI(0.0);
-    model.inverseJacobianAtGeometryCentre(at, centreD);
-    for (int p = 0; p < MatrixHessian::kPairs; ++p) centred = centred && hessian.d[p].rows() == n_;
     const DMat zero = DMat::Zero(n_, n_);
     DMat m, r;
     for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) {
@@ -133,13 +133,13 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     }
   }
   for (int i = 0; i < vars_; ++i) {
-    split(multiplyMidRad(c_, poseD.d[i]), dm_[i], dr_[i]);
+    split(multiplyMidRad(c_, centred ? hessian.first[i] : poseD.d[i]), dm_[i], dr_[i]);
     devMag_[i] = box.deviation[i].mag();
   }
   for (int i = 0; i < vars_; ++i) {
     if (centred) {
       DMat cm, cr, m, r;
-      split(centreD.d[i], m, r);
+      split(atCentre.first[i], m, r);
       product(c_, DMat(DMat::Zero(n_, n_)), m, r, cm, cr);
       for (int l = 0; l < n_; ++l) {
         const int p = MatrixHessian::index(i, l);

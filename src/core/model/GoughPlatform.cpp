@@ -610,12 +610,12 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
   }
 }
 
-bool GoughPlatform::inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out) const {
-  return hessian(pose, aMid_, bMid_, cMid_, out);
+bool GoughPlatform::inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second) const {
+  return hessian(pose, aMid_, bMid_, cMid_, out, second);
 }
 
-bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
-                            MatrixHessian& out) const {
+bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c, MatrixHessian& out,
+                            bool second) const {
   // Row i of J^-1 is (n, m) = (d / L, w / L), d = p + R b_i - A_i, u = R (b_i - c), w = u x d, L = |d|. With the
   // first derivatives (LegMR) L_a = n . d_a, n_a = (d_a - n L_a) / L, w_a = u_a x d + u x d_a, m_a = (w_a - m L_a) / L,
   // differentiating once more:
@@ -636,9 +636,18 @@ bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
   const RotationMR rm(rot);
   const S& zero = rm.zero;
   bool finite = true;
-  for (auto& h : out.d) h.resize(6, 6);
+  for (auto& f : out.first) f.resize(6, 6);
+  for (auto& h : out.d) h.resize(second ? 6 : 0, 6);
   for (int i = 0; i < 6; ++i) {
     const LegMR leg(rot, rm, q, a[i], b[i], c);
+    // The first derivatives (n_a, m_a) of row i.
+    for (int va = 0; va < 6; ++va)
+      for (int k = 0; k < 3; ++k) {
+        finite = finite && leg.na[va][k].finite() && leg.ma[va][k].finite();
+        out.first[va](i, k) = leg.na[va][k].toInterval();
+        out.first[va](i, 3 + k) = leg.ma[va][k].toInterval();
+      }
+    if (!second) continue;
     const S(&d)[3] = leg.d;
     const S(&u)[3] = leg.u;
     const S(&n)[3] = leg.n;

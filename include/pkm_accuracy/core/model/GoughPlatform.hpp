@@ -39,7 +39,7 @@ class GoughPlatform final : public RobotModel {
   IMat inverseJacobianAtGeometryCentre(const IVec& pose) const override;
   void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override;
   bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
-  bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out) const override;
+  bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second = true) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
   std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override;
 
@@ -68,7 +68,8 @@ class GoughPlatform final : public RobotModel {
   void derivatives(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixWithGradient& out) const;
   /// Second derivatives of J^-1 with respect to (x, y, z, roll, pitch, yaw) over a pose box, analytic, for given
   /// anchors and tool point. @return false if some value is not finite (a degenerate leg).
-  bool hessian(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixHessian& out) const;
+  bool hessian(const IVec& pose, const Anchors& a, const Anchors& b, const Tool& c, MatrixHessian& out,
+               bool second) const;
   void chainRule(const DualPose& pose, const Anchors& a, const Anchors& b, const Tool& c,
                  MatrixWithGradient& out) const;
   Interval& slot(const Parameter& p, bool centre);

@@ -64,11 +64,13 @@ class RobotModel {
   virtual void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const {
     inverseJacobian(pose, out);
   }
-  /// Enclosures, over a pose box with every geometry parameter at its centre value, of the second derivatives of
-  /// J^-1 with respect to the pose coordinates (for centred forms of the first derivatives, which keep the
-  /// cancellations between legs that the derivatives' own enclosures lose). @return false if the model does not
-  /// provide them.
-  virtual bool inverseJacobianHessianAtGeometryCentre(const IVec& /*pose*/, MatrixHessian& /*out*/) const {
+  /// Enclosures, over a pose box with every geometry parameter at its centre value, of the first and (with
+  /// `second`) the second derivatives of J^-1 with respect to the pose coordinates (for centred forms of the first
+  /// derivatives, which keep the cancellations between legs that the derivatives' own enclosures lose). They may be
+  /// computed more cheaply and slightly more loosely than inverseJacobianAtGeometryCentre(DualPose). @return false if
+  /// the model does not provide them.
+  virtual bool inverseJacobianHessianAtGeometryCentre(const IVec& /*pose*/, MatrixHessian& /*out*/,
+                                                      bool /*second*/ = true) const {
     return false;
   }
   /// Enclosures, over a pose box and every admissible geometry, of the derivatives of J^-1 with respect to the
