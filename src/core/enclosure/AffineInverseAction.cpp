@@ -124,10 +124,10 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   for (int i = 0; i < vars_ && centred; ++i) centred = hessian.first[i].rows() == n_ && atCentre.first[i].rows() == n_;
   for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) centred = hessian.d[p].rows() == n_;
   if (vars_ > 0 && !centred) model.inverseJacobianAtGeometryCentre(box.dualPose, poseD);
+  const DMat zero = DMat::Zero(n_, n_);  // (C is exact: zero radius)
   if (centred) {
-    const DMat zero = DMat::Zero(n_, n_);
     DMat m, r;
-    for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) {
+    for (int p = 0; p < MatrixHessian::kPairs; ++p) {
       split(hessian.d[p], m, r);
       product(c_, zero, m, r, hm[p], hr[p]);
     }
@@ -140,7 +140,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     if (centred) {
       DMat cm, cr, m, r;
       split(atCentre.first[i], m, r);
-      product(c_, DMat(DMat::Zero(n_, n_)), m, r, cm, cr);
+      product(c_, zero, m, r, cm, cr);
       for (int l = 0; l < n_; ++l) {
         const int p = MatrixHessian::index(i, l);
         cr = upAll(DMat(cr + upAll(DMat((hm[p].cwiseAbs() + hr[p]) * devMag_[l]))));
@@ -187,7 +187,6 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // alpha(e, j) >= |d_e . C_{.,j}| for every d_e in its enclosure.
   {
     EntryMat m, r;
-    const DMat zero = DMat::Zero(n_, n_);
     product(gm_, gr_, c_, zero, m, r);
     alpha_ = upAll(EntryMat(m.cwiseAbs() + r));
     dcm_ = m;

@@ -630,7 +630,7 @@ bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
   //   R_pitch,pitch = -R + (Rz e_y)(Rx^T e_y)^T,  R_pitch,yaw v = e_z x (R_pitch v),  R_yaw,yaw v = e_z x (e_z x R v).
   // The rotation and each leg's d, u, L are enclosed in interval arithmetic over the box, then everything else in
   // midpoint-radius arithmetic (interval::MidRad: rigorous, several times cheaper than endpoint intervals here; the
-  // operands are narrow) and converted back: an enclosure of every second derivative over the box.
+  // operands are narrow) and converted back: enclosures of every first and second derivative over the box.
   using S = interval::MidRad;
   const Rotation rot(q);
   const RotationMR rm(rot);
