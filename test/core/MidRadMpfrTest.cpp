@@ -12,6 +12,7 @@
 #include <cmath>
 #include <random>
 
+#include "MpfrGough.hpp"
 #include "pkm_accuracy/core/interval/MidRad.hpp"
 
 namespace {
@@ -19,17 +20,7 @@ namespace {
 using pkm_accuracy::interval::Interval;
 using pkm_accuracy::interval::MidRad;
 
-struct Mp {
-  mpfr_t v;
-  Mp() { mpfr_init2(v, 200); }
-  explicit Mp(double x) {
-    mpfr_init2(v, 200);
-    mpfr_set_d(v, x, MPFR_RNDN);
-  }
-  ~Mp() { mpfr_clear(v); }
-  Mp(const Mp&) = delete;
-  Mp& operator=(const Mp&) = delete;
-};
+using pkm_accuracy::test::Mp;  // MPFR at 200 bits (MpfrGough.hpp)
 
 /// m - r <= x <= m + r, in MPFR (the bounds m -+ r are exact at 200 bits).
 bool inside(const mpfr_t x, const MidRad& a) {
