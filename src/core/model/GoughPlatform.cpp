@@ -81,6 +81,8 @@ void rowDerivative(const Interval d[3], const Interval u[3], const Interval n[3]
 struct Rotation {
   Interval sr, cr, sp, cp, sy, cy, cysp, sysp;
   Interval r[3][3];
+  /// dR/dpitch = Rz dRy/dpitch Rx, entry by entry.
+  Interval pitch[3][3];
   explicit Rotation(const IVec& q)
       : sr(interval::sin(q[3])),
         cr(interval::cos(q[3])),
@@ -92,7 +94,12 @@ struct Rotation {
         sysp(sy * sp),
         r{{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
           {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
-          {-sp, cp * sr, cp * cr}} {}
+          {-sp, cp * sr, cp * cr}} {
+    const Interval cycp = cy * cp, sycp = sy * cp;
+    const Interval p[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) pitch[k][l] = p[k][l];
+  }
 };
 
 /// Midpoint-radius rotation pieces over a pose box: R, R_pitch, and the first and second derivatives of R v.
@@ -101,14 +108,10 @@ struct RotationMR {
   S r[3][3], dp[3][3], sr, cr, sy, cy;
   S zero{0.0}, one{1.0};
   explicit RotationMR(const Rotation& rot) {
-    const Interval cycp = rot.cy * rot.cp, sycp = rot.sy * rot.cp;
-    const Interval dpI[3][3] = {{-rot.cysp, cycp * rot.sr, cycp * rot.cr},
-                                {-rot.sysp, sycp * rot.sr, sycp * rot.cr},
-                                {-rot.cp, -rot.sp * rot.sr, -rot.sp * rot.cr}};
     for (int k = 0; k < 3; ++k)
       for (int l = 0; l < 3; ++l) {
         r[k][l] = S(rot.r[k][l]);
-        dp[k][l] = S(dpI[k][l]);
+        dp[k][l] = S(rot.pitch[k][l]);
       }
     sr = S(rot.sr);
     cr = S(rot.cr);
@@ -547,13 +550,10 @@ void GoughPlatform::poseDerivatives(const IVec& q, MatrixWithGradient& out) cons
 void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& b, const Tool& c,
                                 MatrixWithGradient& out) const {
   const Rotation rot(q);
-  const Interval &sr = rot.sr, &cr = rot.cr, &sp = rot.sp, &cp = rot.cp, &sy = rot.sy, &cy = rot.cy;
-  const Interval &cysp = rot.cysp, &sysp = rot.sysp;
   const auto& r = rot.r;
   // dR/droll = R [e_x]x: column 1 <- column 2, column 2 <- -column 1. dR/dyaw = [e_z]x R: row 0 <- -row 1,
-  // row 1 <- row 0, row 2 <- 0. dR/dpitch = Rz dRy/dpitch Rx, entry by entry.
-  const Interval cycp = cy * cp, sycp = sy * cp;
-  const Interval dp[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
+  // row 1 <- row 0, row 2 <- 0. dR/dpitch: Rotation::pitch.
+  const auto& dp = rot.pitch;
   out.value.resize(6, 6);
   for (auto& d : out.d) d = IMat::Constant(6, 6, Interval(0.0));
   for (int i = 0; i < 6; ++i) {
