@@ -413,12 +413,12 @@ TEST(UncertaintyModel, GeometryDerivativesContainFiniteDifferences) {
             listed[r.row] = true;
             for (int j = 0; j < 6; ++j) {
               const double slack = tol * (1.0 + std::abs(fd(r.row, j)));
-              EXPECT_LE(r.d[j].lower() - slack, fd(r.row, j))
+              EXPECT_LE(r.d[j].toInterval().lower() - slack, fd(r.row, j))
                   << robot.geometryParameterName(p) << " row " << r.row << " col " << j;
-              EXPECT_GE(r.d[j].upper() + slack, fd(r.row, j))
+              EXPECT_GE(r.d[j].toInterval().upper() + slack, fd(r.row, j))
                   << robot.geometryParameterName(p) << " row " << r.row << " col " << j;
               if (d == &atPoint) {
-                EXPECT_LT(r.d[j].upper() - r.d[j].lower(), 1e-12 * (1.0 + std::abs(fd(r.row, j))));
+                EXPECT_LT(r.d[j].toInterval().upper() - r.d[j].toInterval().lower(), 1e-12 * (1.0 + std::abs(fd(r.row, j))));
               }
               ++checked;
             }

@@ -10,6 +10,7 @@
 #include "pkm_accuracy/core/interval/Dual.hpp"
 #include "pkm_accuracy/core/interval/Eigen.hpp"
 #include "pkm_accuracy/core/interval/Interval.hpp"
+#include "pkm_accuracy/core/interval/MidRad.hpp"
 
 namespace pkm_accuracy {
 
@@ -62,7 +63,7 @@ struct MatrixHessian {
 struct GeometryRowDerivative {
   int parameter = 0;
   int row = 0;
-  std::array<Interval, kMaxDof> d;
+  std::array<interval::MidRad, kMaxDof> d;  ///< midpoint-radius form (what the enclosures use)
 };
 
 /// Derivatives of J^-1 with respect to every uncertain geometry parameter, as row entries (fixed capacity).

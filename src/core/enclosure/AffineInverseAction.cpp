@@ -175,7 +175,10 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     param_[e] = g.parameter;
     row_[e] = g.row;
     entryH_[e] = h_[g.parameter];
-    for (int l = 0; l < n_; ++l) split(g.d[l], gm_(e, l), gr_(e, l));
+    for (int l = 0; l < n_; ++l) {
+      gm_(e, l) = g.d[l].mid();
+      gr_(e, l) = g.d[l].rad();
+    }
     for (int k = 0; k < n_; ++k) cg_(k, e) = c_(k, g.row);
   }
   absC_ = c_.cwiseAbs();

@@ -315,32 +315,39 @@ IMat GoughPlatform::inverseJacobianAtGeometryCentre(const IVec& pose) const {
 bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out) const {
   out.count = 0;
   if (params_.empty()) return true;
+  using S = interval::MidRad;
   const Rotation rot(q);
   const auto& r = rot.r;
-  Interval d[6][3], u[6][3], n[6][3], m[6][3], len[6];
+  // d = B_i - A_i, u = R (b_i - c) and |d| in interval arithmetic (where the dependencies are few), the rest in
+  // midpoint-radius arithmetic (rigorous, and cheaper: bench/RESULTS.md).
+  S d[6][3], u[6][3], n[6][3], m[6][3], inv[6], rm[3][3];
+  Interval rc[3];
   for (int i = 0; i < 6; ++i) {
     const Interval bc[3] = {b_[i][0] - c_[0], b_[i][1] - c_[1], b_[i][2] - c_[2]};
+    Interval dI[3];
     for (int k = 0; k < 3; ++k) {
       const Interval rb = r[k][0] * b_[i][0] + r[k][1] * b_[i][1] + r[k][2] * b_[i][2];
-      u[i][k] = r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2];
-      d[i][k] = q[k] + rb - a_[i][k];
+      u[i][k] = S(r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2]);
+      dI[k] = q[k] + rb - a_[i][k];
+      d[i][k] = S(dI[k]);
     }
-    len[i] = sqrt(sqr(d[i][0]) + sqr(d[i][1]) + sqr(d[i][2]));
-    for (int k = 0; k < 3; ++k) n[i][k] = d[i][k] / len[i];
-    m[i][0] = (u[i][1] * d[i][2] - u[i][2] * d[i][1]) / len[i];
-    m[i][1] = (u[i][2] * d[i][0] - u[i][0] * d[i][2]) / len[i];
-    m[i][2] = (u[i][0] * d[i][1] - u[i][1] * d[i][0]) / len[i];
+    inv[i] = S(Interval(1.0) / sqrt(sqr(dI[0]) + sqr(dI[1]) + sqr(dI[2])));
+    for (int k = 0; k < 3; ++k) n[i][k] = d[i][k] * inv[i];
+    m[i][0] = (u[i][1] * d[i][2] - u[i][2] * d[i][1]) * inv[i];
+    m[i][1] = (u[i][2] * d[i][0] - u[i][0] * d[i][2]) * inv[i];
+    m[i][2] = (u[i][0] * d[i][1] - u[i][1] * d[i][0]) * inv[i];
   }
   // Each kind of parameter moves d and u along a fixed direction, so rowDerivative() simplifies (same formulas:
-  // dL = (d . dd) / L, dn = (dd - n dL) / L, dm = (du x d + u x dd - m dL) / L), with fewer interval operations:
+  // dL = (d . dd) / L, dn = (dd - n dL) / L, dm = (du x d + u x dd - m dL) / L):
   //   base anchor A_i, coordinate c: dd = -e_c, du = 0: dL = -n_c, dn = (n n_c - e_c) / L, dm = (m n_c - u x e_c) / L;
   //   platform anchor b_i:           dd = du = R e_c:   du x d + u x dd = R e_c x (d - u), d - u = p + R c - A_i;
   //   tool point c:                  dd = 0, du = -R e_c: dL = 0, dn = 0, dm = (d x R e_c) / L.
-  Interval inv[6], rc[3];
-  for (int i = 0; i < 6; ++i) inv[i] = Interval(1.0) / len[i];
-  for (int k = 0; k < 3; ++k) rc[k] = r[k][0] * c_[0] + r[k][1] * c_[1] + r[k][2] * c_[2];
-  const Interval zero(0.0);
-  auto entry = [&](int p, int row) -> std::array<Interval, kMaxDof>& {
+  for (int k = 0; k < 3; ++k) {
+    for (int l = 0; l < 3; ++l) rm[k][l] = S(r[k][l]);
+    rc[k] = r[k][0] * c_[0] + r[k][1] * c_[1] + r[k][2] * c_[2];
+  }
+  const S one(1.0);
+  auto entry = [&](int p, int row) -> std::array<S, kMaxDof>& {
     GeometryRowDerivative& e = out.entries[out.count++];
     e.parameter = p;
     e.row = row;
@@ -349,40 +356,41 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
   for (int p = 0; p < geometryParameterCount(); ++p) {
     const Parameter& par = params_[p];
     const int c = par.coord, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-    const Interval column[3] = {r[0][c], r[1][c], r[2][c]};  // R e_c
+    const S column[3] = {rm[0][c], rm[1][c], rm[2][c]};  // R e_c
     if (par.kind == Parameter::Base) {
       const int i = par.leg;
       auto& v = entry(p, i);
-      const Interval nc = n[i][c];
+      const S nc = n[i][c];
       // u x e_c: component c is 0, component c1 is u_c2, component c2 is -u_c1.
-      Interval ue[3];
-      ue[c] = zero;
+      S ue[3];
+      ue[c] = S(0.0);
       ue[c1] = u[i][c2];
       ue[c2] = -u[i][c1];
       for (int k = 0; k < 3; ++k) {
-        v[k] = (k == c ? n[i][k] * nc - Interval(1.0) : n[i][k] * nc) * inv[i];
-        v[3 + k] = (m[i][k] * nc - ue[k]) * inv[i];
+        v[k] = ((k == c ? n[i][k] * nc - one : n[i][k] * nc) * inv[i]);
+        v[3 + k] = ((m[i][k] * nc - ue[k]) * inv[i]);
       }
     } else if (par.kind == Parameter::Platform) {
       const int i = par.leg;
       auto& v = entry(p, i);
-      const Interval w[3] = {q[0] + rc[0] - a_[i][0], q[1] + rc[1] - a_[i][1], q[2] + rc[2] - a_[i][2]};
-      const Interval dl = n[i][0] * column[0] + n[i][1] * column[1] + n[i][2] * column[2];
-      const Interval dw[3] = {column[1] * w[2] - column[2] * w[1], column[2] * w[0] - column[0] * w[2],
-                              column[0] * w[1] - column[1] * w[0]};
+      S w[3];
+      for (int k = 0; k < 3; ++k) w[k] = S(q[k] + rc[k] - a_[i][k]);
+      const S dl = n[i][0] * column[0] + n[i][1] * column[1] + n[i][2] * column[2];
+      const S dw[3] = {column[1] * w[2] - column[2] * w[1], column[2] * w[0] - column[0] * w[2],
+                       column[0] * w[1] - column[1] * w[0]};
       for (int k = 0; k < 3; ++k) {
-        v[k] = (column[k] - n[i][k] * dl) * inv[i];
-        v[3 + k] = (dw[k] - m[i][k] * dl) * inv[i];
+        v[k] = ((column[k] - n[i][k] * dl) * inv[i]);
+        v[3 + k] = ((dw[k] - m[i][k] * dl) * inv[i]);
       }
     } else {
       for (int i = 0; i < 6; ++i) {
         auto& v = entry(p, i);
-        const Interval* dv = d[i];
-        const Interval dw[3] = {dv[1] * column[2] - dv[2] * column[1], dv[2] * column[0] - dv[0] * column[2],
-                                dv[0] * column[1] - dv[1] * column[0]};
+        const S* dv = d[i];
+        const S dw[3] = {dv[1] * column[2] - dv[2] * column[1], dv[2] * column[0] - dv[0] * column[2],
+                         dv[0] * column[1] - dv[1] * column[0]};
         for (int k = 0; k < 3; ++k) {
-          v[k] = zero;
-          v[3 + k] = dw[k] * inv[i];
+          v[k] = S(0.0);
+          v[3 + k] = (dw[k] * inv[i]);
         }
       }
     }
