@@ -67,7 +67,7 @@ class AffineInverseAction {
     /// Row bilinearRow (-1: none) may carry, per column j with hasBilinear[j], the pose x geometry terms of the
     /// remainder as a bilinear form: entry (bilinearRow, j) is then
     ///   centre + sum_i pose_i tau_i + sum_p (geometry_p + sum_i bilinear[j](p, i) tau_i) gamma_p +- radius,
-    /// and radius no longer holds those terms (only what the form leaves over). See apply().
+    /// and radius no longer holds those terms (only what the form leaves over, crossRest). See refineBilinear().
     int bilinearRow = -1;
     std::array<bool, kMaxDof> hasBilinear{};
     std::array<BilinearMat, kMaxDof> bilinear;
@@ -166,7 +166,7 @@ class AffineInverseAction {
   EntryMat magG_;                         ///< |d_e|
   EntryMat dS_;                           ///< (e, l): >= |d_e^T S|_l, S = E0 + P
   DMat sc_;                               ///< >= |S C|
-  // For the bilinear form of the pose x geometry terms (apply() with a bilinearRow):
+  // For the bilinear form of the pose x geometry terms (refineBilinear()):
   std::array<DMat, kMaxDof> dc_;  ///< dm_i C (computed; rounding error <= kGamma |dm_i| |C|)
   DMat e0c_, pc_;                 ///< >= |E0 C|, >= |P C| (P = sum_i D_i (t_i - t0_i))
   DMat pmC_, prC_;                ///< >= (sum_i |dm_i| |dev_i|) |C|, >= (sum_i dr_i |dev_i|) |C|
