@@ -266,7 +266,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     sc += w.lazyProduct(absC_);
     dS_ = upAll(ds).cwiseMin(upAll(EntryMat(magG.lazyProduct(magS))));
     sc_ = upAll(sc).cwiseMin(upAll(DMat(magS.lazyProduct(absC_))));
-    // The same bounds split into E0 C and P C (apply() with a bilinear row), and |Pm| |C|, |Pr| |C| with
+    // The same bounds split into E0 C and P C (for refineBilinear()), and |Pm| |C|, |Pr| |C| with
     // P = Pm + Pr, Pm = sum_i dm_i (t_i - t0_i).
     e0c_ = upAll(DMat(upAll(e0c) + upAll(DMat(upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs())).lazyProduct(absC_)))));
     pc_ = upAll(DMat(upAll(pc) + upAll(DMat(upAll(wp).lazyProduct(absC_)))));
