@@ -764,6 +764,7 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
   int prepared = 0, entriesChecked = 0, combinations = 0, bilinearColumns = 0, bilinearChecked = 0;
   double worstRest = 0.0, worstForm = 0.0;  // largest |cross - form| / crossRest, / |cross|
   double worstCoefficients = 0.0;           // largest sum |M - finite differences| / sum |finite differences|
+  double worstCross = 0.0;                  // largest |S L y + L S y| / its bound
   int coefficientsChecked = 0;
   for (const auto& g : {withUncertainty(0.0005), withUncertainty(0.001), withTool}) {
     const Uncertain u(g);
@@ -903,6 +904,30 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
               lm[i][j] = cl;
             }
         }
+        // The remainder's parts, each against its own bound: |S S y| <= ssy, |S L y + L S y| <= cross,
+        // |L L y| <= ll (apply(); every entry).
+        for (int j = 0; j < m; ++j) {
+          std::vector<Mp> ly(6, Mp(0.0)), sy(6, Mp(0.0));
+          for (int i = 0; i < 6; ++i)
+            for (int l = 0; l < 6; ++l) {
+              ly[i] = ly[i] + lm[i][l] * nv[l][j];
+              sy[i] = sy[i] + sm[i][l] * nv[l][j];
+            }
+          for (int k = 0; k < 6; ++k) {
+            Mp ss(0.0), cross(0.0), ll(0.0);
+            for (int l = 0; l < 6; ++l) {
+              ss = ss + sm[k][l] * sy[l];
+              cross = cross + sm[k][l] * ly[l] + lm[k][l] * sy[l];
+              ll = ll + lm[k][l] * ly[l];
+            }
+            EXPECT_TRUE(mpLessEqual(mpAbs(ss), a.ssy(k, j))) << "|S S y| " << k << "," << j << " trial " << trial;
+            EXPECT_TRUE(mpLessEqual(mpAbs(cross), a.cross(k, j)))
+                << "|S L y + L S y| = " << toDouble(mpAbs(cross)) << " > " << a.cross(k, j) << ", entry " << k << ","
+                << j << " trial " << trial;
+            EXPECT_TRUE(mpLessEqual(mpAbs(ll), a.ll(k, j))) << "|L L y| " << k << "," << j << " trial " << trial;
+            worstCross = std::max(worstCross, toDouble(mpAbs(cross)) / a.cross(k, j));
+          }
+        }
         // The affine variables of this (t, g): tau_i = (t_i - t0_i) / |dev_i|max, gamma_p = (g_p - g0_p) / h_p.
         std::vector<Mp> tau(6, Mp(0.0)), gamma(params, Mp(0.0));
         for (int i = 0; i < 6; ++i) {
@@ -1026,7 +1051,7 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
   std::cout << "[ info     ] bilinear forms kept for " << bilinearColumns << " columns, checked at " << bilinearChecked
             << " points; |cross terms - form| up to " << worstRest << " of its bound, " << worstForm
             << " of |cross terms|; coefficients within " << worstCoefficients << " of the finite differences ("
-            << coefficientsChecked << " columns)\n";
+            << coefficientsChecked << " columns); |S L y + L S y| up to " << worstCross << " of its bound\n";
   EXPECT_GT(coefficientsChecked, 5);
   EXPECT_GT(bilinearColumns, 10);
   EXPECT_GT(bilinearChecked, 40);

@@ -248,26 +248,30 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   {
     DMat w = upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs()));
     EntryMat ds = gm_.lazyProduct(e0m_).cwiseAbs();
-    const DMat e0c = e0m_.lazyProduct(c_).cwiseAbs();
-    DMat sc = e0c;
-    DMat pc = DMat::Zero(n_, n_), wp = DMat::Zero(n_, n_), pm = DMat::Zero(n_, n_), pr = DMat::Zero(n_, n_);
+    DMat sc = e0m_.lazyProduct(c_).cwiseAbs();
     for (int i = 0; i < vars_; ++i) {
-      const DMat wi = upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
-      w += wi;
-      wp += wi;
+      w += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
       ds += gm_.lazyProduct(dm_[i]).cwiseAbs() * devMag_[i];
       dc_[i] = dm_[i].lazyProduct(c_);
-      pc += dc_[i].cwiseAbs() * devMag_[i];
-      pm += dm_[i].cwiseAbs() * devMag_[i];
-      pr += dr_[i] * devMag_[i];
+      sc += dc_[i].cwiseAbs() * devMag_[i];
     }
     w = upAll(w);
     ds += gm_.cwiseAbs().lazyProduct(w) + gr_.lazyProduct(magS);
     sc += w.lazyProduct(absC_);
     dS_ = upAll(ds).cwiseMin(upAll(EntryMat(magG.lazyProduct(magS))));
     sc_ = upAll(sc).cwiseMin(upAll(DMat(magS.lazyProduct(absC_))));
-    // The same bounds split into E0 C and P C (for refineBilinear()), and |Pm| |C|, |Pr| |C| with
-    // P = Pm + Pr, Pm = sum_i dm_i (t_i - t0_i).
+  }
+  if (entries_ > 0) {
+    // For refineBilinear() (only with geometry terms): the bounds above split into E0 C and P C, and |Pm| |C|,
+    // |Pr| |C| with P = Pm + Pr, Pm = sum_i dm_i (t_i - t0_i).
+    const DMat e0c = e0m_.lazyProduct(c_).cwiseAbs();
+    DMat pc = DMat::Zero(n_, n_), wp = DMat::Zero(n_, n_), pm = DMat::Zero(n_, n_), pr = DMat::Zero(n_, n_);
+    for (int i = 0; i < vars_; ++i) {
+      wp += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
+      pc += dc_[i].cwiseAbs() * devMag_[i];
+      pm += dm_[i].cwiseAbs() * devMag_[i];
+      pr += dr_[i] * devMag_[i];
+    }
     e0c_ = upAll(DMat(upAll(e0c) + upAll(DMat(upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs())).lazyProduct(absC_)))));
     pc_ = upAll(DMat(upAll(pc) + upAll(DMat(upAll(wp).lazyProduct(absC_)))));
     pmC_ = upAll(DMat(upAll(pm).lazyProduct(absC_)));
@@ -455,18 +459,20 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   }
   out.bilinearRow = -1;
   out.hasBilinear.fill(false);
-  // For refineBilinear().
-  out.yr = yr;
-  out.ssy = ssy;
-  out.cross = sly + lsy;
-  out.linear = linear;
-  out.b = b;
-  out.z = z;
-  out.yv = spread.cwiseMin(upAll(DMat(pz + upAll(DMat(absC_.lazyProduct(b))))));  // >= |y - v|
-  for (int i = 0; i < vars_; ++i) {
-    out.dvmi[i] = dvm_i[i];
-    out.dvri[i] = dvr_i[i];
-    out.poseBase[i] = out.poseSpread[i];
+  // For refineBilinear() (only with geometry terms).
+  if (entries_ > 0) {
+    out.yr = yr;
+    out.ssy = ssy;
+    out.cross = sly + lsy;
+    out.linear = linear;
+    out.b = b;
+    out.z = z;
+    out.yv = spread.cwiseMin(upAll(DMat(pz + upAll(DMat(absC_.lazyProduct(b))))));  // >= |y - v|
+    for (int i = 0; i < vars_; ++i) {
+      out.dvmi[i] = dvm_i[i];
+      out.dvri[i] = dvr_i[i];
+      out.poseBase[i] = out.poseSpread[i];
+    }
   }
   // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
   // shrink with the pose box too, so each pose variable's poseSpread also gets a share of them, in proportion to its
