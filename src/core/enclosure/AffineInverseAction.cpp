@@ -76,45 +76,6 @@ void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
   }
 }
 
-/// The largest value of  sum_i a_i tau_i + sum_p (b_p + sum_i m(p, i) tau_i) gamma_p  (times `sign`: -1 gives
-/// minus the smallest) over tau in [-1, 1]^vars and gamma in [-1, 1]^params, with gamma_p = s[p] where s (may be null)
-/// is not 0, bounded from above: where |b_p| > sum_i |m(p, i)| the factor of gamma_p keeps the sign of b_p over the
-/// whole tau box, so gamma_p's best value is that sign and its terms m(p, .) add to the coefficients of tau with it;
-/// elsewhere the term is bounded by |b_p| + sum_i |m(p, i)|. Exact up to the roundings of the sums (below kGamma of
-/// `scale`, which is returned: the caller adds kGamma scale and rounds up). `effective` (may be null): per variable,
-/// |its final coefficient| + sum over the free parameters of |m(p, i)| (bisection hints).
-double bilinearUpper(const double* a, const double* b, const AffineInverseAction::BilinearMat& m, int vars, int params,
-                     const double* s, double sign, double& scale, double* effective = nullptr) {
-  double coef[kMaxDof], loose[kMaxDof];
-  scale = 0.0;
-  for (int i = 0; i < vars; ++i) {
-    coef[i] = sign * a[i];
-    loose[i] = 0.0;
-    scale += std::abs(a[i]);
-  }
-  double total = 0.0;
-  for (int p = 0; p < params; ++p) {
-    const double bp = sign * b[p];
-    double spread = 0.0;
-    for (int i = 0; i < vars; ++i) spread += std::abs(m(p, i));
-    scale += std::abs(bp) + spread;
-    double fixed = s != nullptr ? s[p] : 0.0;
-    if (fixed == 0.0 && std::abs(bp) > spread * (1.0 + 1e-12)) fixed = bp > 0.0 ? 1.0 : -1.0;
-    if (fixed != 0.0) {
-      total += fixed * bp;
-      for (int i = 0; i < vars; ++i) coef[i] += fixed * sign * m(p, i);
-    } else {
-      total += std::abs(bp) + spread;
-      for (int i = 0; i < vars; ++i) loose[i] += std::abs(m(p, i));
-    }
-  }
-  for (int i = 0; i < vars; ++i) {
-    total += std::abs(coef[i]);
-    if (effective != nullptr) effective[i] = std::abs(coef[i]) + loose[i];
-  }
-  return total;
-}
-
 /// The box variables are the pose coordinates themselves (pose_i = t_i, as for workspace boxes).
 bool identityPoseMap(const BoxInput& box, int n) {
   if (!box.hasGradient || box.variables != n) return false;
@@ -252,46 +213,13 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     for (int i = 0; i < vars_; ++i) {
       w += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
       ds += gm_.lazyProduct(dm_[i]).cwiseAbs() * devMag_[i];
-      dc_[i] = dm_[i].lazyProduct(c_);
-      sc += dc_[i].cwiseAbs() * devMag_[i];
+      sc += dm_[i].lazyProduct(c_).cwiseAbs() * devMag_[i];
     }
     w = upAll(w);
     ds += gm_.cwiseAbs().lazyProduct(w) + gr_.lazyProduct(magS);
     sc += w.lazyProduct(absC_);
     dS_ = upAll(ds).cwiseMin(upAll(EntryMat(magG.lazyProduct(magS))));
     sc_ = upAll(sc).cwiseMin(upAll(DMat(magS.lazyProduct(absC_))));
-  }
-  if (entries_ > 0) {
-    // For refineBilinear() (only with geometry terms): the bounds above split into E0 C and P C, and |Pm| |C|,
-    // |Pr| |C| with P = Pm + Pr, Pm = sum_i dm_i (t_i - t0_i).
-    const DMat e0c = e0m_.lazyProduct(c_).cwiseAbs();
-    DMat pc = DMat::Zero(n_, n_), wp = DMat::Zero(n_, n_), pm = DMat::Zero(n_, n_), pr = DMat::Zero(n_, n_);
-    for (int i = 0; i < vars_; ++i) {
-      wp += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
-      pc += dc_[i].cwiseAbs() * devMag_[i];
-      pm += dm_[i].cwiseAbs() * devMag_[i];
-      pr += dr_[i] * devMag_[i];
-    }
-    e0c_ = upAll(DMat(upAll(e0c) + upAll(DMat(upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs())).lazyProduct(absC_)))));
-    pc_ = upAll(DMat(upAll(pc) + upAll(DMat(upAll(wp).lazyProduct(absC_)))));
-    pmC_ = upAll(DMat(upAll(pm).lazyProduct(absC_)));
-    prC_ = upAll(DMat(upAll(pr).lazyProduct(absC_)));
-    // R(A)(i, l) = sum over the entries e of row i of h_p A(e, l), for A = gr, |gm|, |d_e|, dS (refineBilinear()).
-    rGr_ = rGm_ = rMagG_ = rDS_ = DMat::Zero(n_, n_);
-    for (int e = 0; e < entries_; ++e) {
-      const double h = entryH_[e];
-      const int i = row_[e];
-      for (int l = 0; l < n_; ++l) {
-        rGr_(i, l) += h * gr_(e, l);
-        rGm_(i, l) += h * std::abs(gm_(e, l));
-        rMagG_(i, l) += h * magG(e, l);
-        rDS_(i, l) += h * dS_(e, l);
-      }
-    }
-    rGr_ = upAll(rGr_);
-    rGm_ = upAll(rGm_);
-    rMagG_ = upAll(rMagG_);
-    rDS_ = upAll(rDS_);
   }
   // q_ ~ (I - |E|)^-1: any approximation; apply() verifies what it gives.
   DMat iMinus = -magE_;
@@ -331,17 +259,6 @@ bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const {
   return false;
 }
 
-DMat AffineInverseAction::rowSumsH(const EntryMat& x) const {
-  const int m = static_cast<int>(x.cols());
-  DMat sums = DMat::Zero(n_, m);
-  for (int j = 0; j < m; ++j) {
-    double* sum = &sums(0, j);
-    const double* column = &x(0, j);
-    for (int e = 0; e < entries_; ++e) sum[row_[e]] += entryH_[e] * column[e];
-  }
-  return upAll(sums);
-}
-
 bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   const int m = static_cast<int>(v.cols());
   DMat vm, vr;
@@ -367,7 +284,18 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   // Products cgh X (n x entries times entries x m, X >= 0) through the rows the entries move: cgh(k, e) =
   // |C_{k,row(e)}| h_p(e), so cgh X = |C| R(X) with R(X)(i, j) = sum over the entries e of row i of h_p(e) X(e, j)
   // (the same sums, a sixth of the products; every term is >= 0, so up() covers the roundings).
-  auto chProduct = [&](const EntryMat& x) { return upAll(DMat(absC_.lazyProduct(rowSumsH(x)))); };
+  DMat rowSum(n_, m);
+  auto rowSums = [&](const EntryMat& x) -> const DMat& {
+    rowSum.setZero();
+    for (int j = 0; j < m; ++j) {
+      double* sum = &rowSum(0, j);
+      const double* column = &x(0, j);
+      for (int e = 0; e < entries_; ++e) sum[row_[e]] += entryH_[e] * column[e];
+    }
+    rowSum = upAll(rowSum);
+    return rowSum;
+  };
+  auto chProduct = [&](const EntryMat& x) { return upAll(DMat(absC_.lazyProduct(rowSums(x)))); };
   // |Y - Y0| = |-(E - E0) V + E^2 Y| <= |E - E0| |V| + |E| |E| Z  (delta), where E - E0 = P + L (P: the pose
   // part, L: the geometry part) and |L V| <= cgh |DV| keeps the cancellations inside the dot products d_e . v.
   // (|E| |E| is computed once per box in prepare().)
@@ -397,11 +325,10 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   // with B_i = sum over row i's entries of h_p beta >= |delta_i . y|: it maps valid bounds to valid bounds, and the
   // dot products d_e . C_{.,i} keep their cancellations, where |d_e| spread and |E| z did not. (Measured: a second
   // pass gains a tenth of the first at a sixth of the cost per box; not worth it.)
-  DMat b = rowSumsH(beta);
-  DMat pz;  // >= |(E0 + P) y|
+  DMat b = rowSums(beta);
   {
-    pz = upAll(DMat(magS_.lazyProduct(z))).cwiseMin(sy);  // |E0 + P| <= |S|
-    EntryMat dsz = upAll(EntryMat(dS_.lazyProduct(z)));   // >= |d_e . (S y)|
+    const DMat pz = upAll(DMat(magS_.lazyProduct(z))).cwiseMin(sy);  // >= |(E0 + P) y|, |E0 + P| <= |S|
+    EntryMat dsz = upAll(EntryMat(dS_.lazyProduct(z)));              // >= |d_e . (S y)|
     if (entries_ > 0) dsz = dsz.cwiseMin(gsy);
     const EntryMat rho2 = upAll(EntryMat(dsz + upAll(EntryMat(alpha_.lazyProduct(b)))));
     const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(absC_.lazyProduct(b)))));
@@ -410,7 +337,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
     out.sigma = upAll(EntryMat(dS_.lazyProduct(z)));
     if (entries_ > 0) out.sigma = out.sigma.cwiseMin(gsy);
     beta = upAll(EntryMat(magDV + rho));
-    b = rowSumsH(beta);
+    b = rowSums(beta);
   }
   // Gamma = alpha B;  L L Y <= cgh Gamma.
   const EntryMat gamma = upAll(EntryMat(alpha_.lazyProduct(b)));
@@ -426,6 +353,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   out.dvr = dvr;
   out.rho = rho;
   out.ll = ll;
+  out.ssy = ssy;
+  out.cross = upAll(DMat(sly + lsy));
   // Affine forms (N V = Y0 - sum_i D_i V dev_i - sum_p G_p V dev_p + E^2 N V). Pose terms -(D_i V)(k, j) (t_i - t0_i)
   // = -[pm +- pr] devMag tau_i: coefficient -pm devMag, the rest
   // (pr devMag and the rounding of the product) to the radius. Geometry terms (G_p V)(k, j) (g_p - g0_p) with
@@ -436,19 +365,33 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   out.vars = vars_;
   out.params = params_;
   out.centre = ym;
-  // radius = (yr + remainder) + sum_i poseSpread_i + linear (the last two without the hints below).
-  DMat linear = DMat::Zero(n_, m);
+  DMat radius = upAll(DMat(yr + remainder));
   for (int i = 0; i < vars_; ++i) {
     const DMat& pm = dvm_i[i];
     const DMat& pr = dvr_i[i];
     out.pose[i] = -pm * devMag_[i];
     out.poseSpread[i] = upAll(DMat(upAll(DMat(pr * devMag_[i])) + kGamma * out.pose[i].cwiseAbs()));
-    linear += out.poseSpread[i];
+    radius += out.poseSpread[i];
+  }
+  // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
+  // shrink with the pose box too, so each pose variable's poseSpread also gets a share of them, in proportion to its
+  // part of |P| (row sums of |D_i| |dev_i|). The shares add up to at most these terms, so poseSpread stays a part of
+  // the radius. (Paper workspace, 2 threads: 6-7% fewer boxes, with and without anchor uncertainty.)
+  if (vars_ > 0) {
+    const DMat poseRem = ssy + sly + lsy;
+    for (int k = 0; k < n_; ++k) {
+      double total = 0.0;
+      for (int i = 0; i < vars_; ++i) total += poseWeight_[i][k];
+      if (!(total > 0.0)) continue;
+      for (int i = 0; i < vars_; ++i) {
+        const double share = poseWeight_[i][k] / total;
+        for (int j = 0; j < m; ++j) out.poseSpread[i](k, j) += poseRem(k, j) * share;
+      }
+    }
   }
   // |C| h dvr, plus the rounding of the coefficient sums below (at most a few products and sums each, relative
   // error < kGamma of sum |terms|, i.e. kGamma cgh |dvm|).
-  linear = upAll(DMat(upAll(linear) + chProduct(upAll(EntryMat(dvr + (2.0 * kGamma) * dvm.cwiseAbs())))));
-  out.radius = upAll(DMat(upAll(DMat(yr + remainder)) + linear));
+  radius += chProduct(upAll(EntryMat(dvr + (2.0 * kGamma) * dvm.cwiseAbs())));
   for (int j = 0; j < m; ++j) {
     GMat& g = out.geometry[j];
     g = GMat::Zero(n_, params_);
@@ -457,129 +400,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
       for (int k = 0; k < n_; ++k) g(k, param_[e]) -= cg_(k, e) * d;
     }
   }
-  out.bilinearRow = -1;
-  out.hasBilinear.fill(false);
-  // For refineBilinear() (only with geometry terms).
-  if (entries_ > 0) {
-    out.yr = yr;
-    out.ssy = ssy;
-    out.cross = sly + lsy;
-    out.linear = linear;
-    out.b = b;
-    out.z = z;
-    out.yv = spread.cwiseMin(upAll(DMat(pz + upAll(DMat(absC_.lazyProduct(b))))));  // >= |y - v|
-    for (int i = 0; i < vars_; ++i) {
-      out.dvmi[i] = dvm_i[i];
-      out.dvri[i] = dvr_i[i];
-      out.poseBase[i] = out.poseSpread[i];
-    }
-  }
-  // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
-  // shrink with the pose box too, so each pose variable's poseSpread also gets a share of them, in proportion to its
-  // part of |P| (row sums of |D_i| |dev_i|). The shares add up to at most these terms, so poseSpread stays a part of
-  // the radius. (Paper workspace, 2 threads: 6-7% fewer boxes, with and without anchor uncertainty.)
-  const DMat poseRem = ssy + sly + lsy;
-  for (int k = 0; k < n_ && vars_ > 0; ++k) {
-    double total = 0.0;
-    for (int i = 0; i < vars_; ++i) total += poseWeight_[i][k];
-    if (!(total > 0.0)) continue;
-    for (int i = 0; i < vars_; ++i) {
-      const double share = poseWeight_[i][k] / total;
-      for (int j = 0; j < m; ++j) out.poseSpread[i](k, j) += poseRem(k, j) * share;
-    }
-  }
+  out.radius = upAll(radius);
   return out.radius.allFinite() && out.centre.allFinite();
-}
-
-void AffineInverseAction::refineBilinear(AffineMatrix& out, int bilinearRow) const {
-  const int m = out.cols;
-  if (out.bilinearRow >= 0 || bilinearRow < 0 || bilinearRow >= n_ || vars_ <= 0 || entries_ <= 0 || out.rows != n_ ||
-      out.dvm.rows() != entries_) {
-    return;
-  }
-  const EntryMat& dvm = out.dvm;
-  const EntryMat& dvr = out.dvr;
-  const EntryMat& rho = out.rho;
-  const DMat& b = out.b;
-  const DMat& z = out.z;
-  const DMat& yv = out.yv;
-  const std::array<DMat, kMaxDof>& dvm_i = out.dvmi;
-  const std::array<DMat, kMaxDof>& dvr_i = out.dvri;
-  {
-    // The pose x geometry terms of the remainder as a bilinear form (row kb = bilinearRow). With P = Pm + Pr
-    // (Pm = sum_i dm_i (t_i - t0_i), |Pr| <= sum_i dr_i |dev_i|), L = sum_e C_{.,row(e)} d_e^T (g_p - g0_p) and
-    // d_e . v in [dvm +- dvr], D_i v in [dvm_i +- dvr_i] (for every D_i, d_e, v of their enclosures):
-    //   S L y + L S y = E0 L y + P L v + P L (y - v) + L E0 y + L P v + L P (y - v),
-    // where P L v and L P v are, up to the radius parts, the bilinear form
-    //   sum_{p,i} tau_i gamma_p |dev_i| h_p sum_{e of p} [(dm_i C)_{kb,row(e)} dvm(e, j) + C_{kb,row(e)} (gm_e .
-    //   dvm_i)],
-    // and the rest is bounded in magnitude, with y - v (|y - v| <= min(spread, pz + |C| B)) where the old bound had y:
-    //   |E0 L y| <= |E0 C| B,   |P L (y - v)| <= |P C| B',  B' = row sums of h rho >= |Lambda(y - v)|,
-    //   |P L v - form| <= (|Pr| |C|) R(|dvm| + dvr) + (|Pm| |C|) R(dvr + 3 gamma |dvm|),
-    //   |L E0 y| <= cgh |d_e| |E0| z,   |L P (y - v)| <= cgh dS |y - v|,
-    //   |L P v - form| <= cgh sum_i |dev_i| (gr (|dvm_i| + dvr_i) + |gm| (dvr_i + 3 gamma |dvm_i|))
-    // (R: the row sums with h; the gamma terms cover the roundings of the form's coefficients). The form is kept
-    // per column only where it gives the smaller bound over the box (bilinearUpper() with every gamma_p free, against
-    // the plain form with these terms in the radius): on small boxes the geometry coefficients dominate their
-    // variation with the pose, so each gamma_p's sign is fixed at the maximum and the cross terms add to the pose
-    // coefficients with their signs instead of in magnitude.
-    const int kb = bilinearRow;
-    const DMat bPrime = rowSumsH(rho);
-    const DMat dvmDvrRows = rowSumsH(upAll(EntryMat(dvm.cwiseAbs() + dvr)));
-    const DMat dvrRows = rowSumsH(upAll(EntryMat(dvr + (3.0 * kGamma) * dvm.cwiseAbs())));
-    DMat pvMag = DMat::Zero(n_, m), pvRad = DMat::Zero(n_, m);
-    for (int i = 0; i < vars_; ++i) {
-      pvMag += (dvm_i[i].cwiseAbs() + dvr_i[i]) * devMag_[i];
-      pvRad += (dvr_i[i] + (3.0 * kGamma) * dvm_i[i].cwiseAbs()) * devMag_[i];
-    }
-    // cgh X for the four products X = A x below, with R(A x) = R(A) x (R: row sums with h, linear; every term >= 0)
-    // and R(A) per box from prepare(): |C| (R(gr) pvMag + R(|gm|) pvRad + R(|d_e|) |E0| z + R(dS) yv).
-    const DMat lRestRow = upAll(DMat(absC_.lazyProduct(upAll(
-        DMat(upAll(DMat(upAll(DMat(rGr_.lazyProduct(upAll(pvMag)))) + upAll(DMat(rGm_.lazyProduct(upAll(pvRad)))))) +
-             upAll(DMat(upAll(DMat(rMagG_.lazyProduct(upAll(DMat(magE0_.lazyProduct(z)))))) +
-                        upAll(DMat(rDS_.lazyProduct(yv))))))))));
-    std::array<EntryMat, kMaxDof> u;  // gm_e . dvm_i
-    for (int i = 0; i < vars_; ++i) u[i] = gm_.lazyProduct(dvm_i[i]);
-    out.bilinearRow = kb;
-    out.crossRest = DMat::Zero(n_, m);
-    for (int j = 0; j < m; ++j) {
-      double rest = e0c_.row(kb).dot(b.col(j)) + pc_.row(kb).dot(bPrime.col(j)) + prC_.row(kb).dot(dvmDvrRows.col(j)) +
-                    pmC_.row(kb).dot(dvrRows.col(j));
-      rest = up(up(rest) + lRestRow(kb, j));
-      const double remNew = up(up(out.ssy(kb, j) + out.ll(kb, j)) + rest);
-      const double radiusNew = up(up(out.yr(kb, j) + remNew) + out.linear(kb, j));
-      BilinearMat& bm = out.bilinear[j];
-      bm = BilinearMat::Zero(params_, vars_);
-      for (int e = 0; e < entries_; ++e) {
-        const int row = row_[e];
-        const double ck = c_(kb, row), he = entryH_[e], w = dvm(e, j);
-        for (int i = 0; i < vars_; ++i) bm(param_[e], i) += devMag_[i] * he * (dc_[i](kb, row) * w + ck * u[i](e, j));
-      }
-      // The plain bound against the bilinear one (a choice only: both are valid).
-      double a[kMaxDof], g[kMaxGeometryParameters], plain = 0.0;
-      for (int i = 0; i < vars_; ++i) {
-        a[i] = out.pose[i](kb, j);
-        plain += std::abs(a[i]);
-      }
-      for (int p = 0; p < params_; ++p) {
-        g[p] = out.geometry[j](kb, p);
-        plain += std::abs(g[p]);
-      }
-      double scale = 0.0;
-      const double withForm = bilinearUpper(a, g, bm, vars_, params_, nullptr, 1.0, scale) + radiusNew;
-      if (!(withForm < plain + out.radius(kb, j))) continue;
-      out.hasBilinear[j] = true;
-      out.radius(kb, j) = radiusNew;
-      out.crossRest(kb, j) = rest;
-      // The hints: each variable's share of what is left of the terms through S (see apply()).
-      double total = 0.0;
-      for (int i = 0; i < vars_; ++i) total += poseWeight_[i][kb];
-      const double poseRem = out.ssy(kb, j) + rest;
-      for (int i = 0; i < vars_; ++i)
-        out.poseSpread[i](kb, j) =
-            out.poseBase[i](kb, j) + (total > 0.0 ? poseRem * (poseWeight_[i][kb] / total) : 0.0);
-    }
-  }
 }
 
 int AffineInverseAction::monotoneDirections(const AffineMatrix& a, int j, const double* jSign, double* dir) const {
@@ -693,15 +515,6 @@ double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, con
   // The entry on the face: centre + sum_i |pose_i| + sum_p (s_p geometry_p on the face, |geometry_p| elsewhere)
   // + (radius - |L L y| bound) + [L L y on the face].
   double positive = subUp(a.radius(k, j), a.ll(k, j));
-  if (k == a.bilinearRow && a.hasBilinear[j]) {
-    // With the bilinear form: its maximum with the face's gamma_p fixed (the radius holds |L L y| as before).
-    double pose[kMaxDof], geometry[kMaxGeometryParameters], scale = 0.0;
-    for (int i = 0; i < a.vars; ++i) pose[i] = a.pose[i](k, j);
-    for (int p = 0; p < a.params; ++p) geometry[p] = a.geometry[j](k, p);
-    const double form = bilinearUpper(pose, geometry, a.bilinear[j], a.vars, a.params, s, 1.0, scale);
-    positive = up(positive + form + kGamma * (scale + std::abs(a.centre(k, j))));
-    return addUp(addUp(a.centre(k, j), positive), addUp(llm, llr));
-  }
   for (int i = 0; i < a.vars; ++i) positive += std::abs(a.pose[i](k, j));
   double signedSum = 0.0, scale = 0.0;
   for (int p = 0; p < a.params; ++p) {
@@ -721,7 +534,6 @@ Interval AffineInverseAction::AffineMatrix::entry(int k, int j) const {
   double r = radius(k, j);
   for (int i = 0; i < vars; ++i) r += std::abs(pose[i](k, j));
   for (int p = 0; p < params; ++p) r += std::abs(geometry[j](k, p));
-  if (k == bilinearRow && hasBilinear[j]) r += bilinear[j].cwiseAbs().sum();
   r = up(r);
   return Interval(interval::rounding::subDown(centre(k, j), r), interval::rounding::addUp(centre(k, j), r));
 }
@@ -732,16 +544,9 @@ void AffineInverseAction::combine(const AffineMatrix& a, int k, const double* w,
   double centre = 0.0, radius = 0.0, scale = 0.0;
   for (int i = 0; i < a.vars; ++i) out.pose[i] = out.poseSpread[i] = 0.0;
   for (int p = 0; p < a.params; ++p) out.geometry[p] = 0.0;
-  out.bilinear = false;
   for (int j = 0; j < a.cols; ++j) {
     if (w[j] == 0.0) continue;
     const double aw = std::abs(w[j]);
-    if (k == a.bilinearRow && a.hasBilinear[j]) {
-      if (!out.bilinear) out.m = BilinearMat::Zero(a.params, a.vars);
-      out.bilinear = true;
-      out.m += w[j] * a.bilinear[j];
-      scale += aw * a.bilinear[j].cwiseAbs().sum();
-    }
     centre += w[j] * a.centre(k, j);
     radius += aw * a.radius(k, j);
     double size = std::abs(a.centre(k, j));
@@ -774,22 +579,11 @@ void AffineInverseAction::Combination::add(const Combination& other) {
     scale += std::abs(geometry[p]) + std::abs(other.geometry[p]);
     geometry[p] += other.geometry[p];
   }
-  if (other.bilinear) {
-    if (!bilinear) m = BilinearMat::Zero(params, vars);
-    scale += m.cwiseAbs().sum() + other.m.cwiseAbs().sum();
-    m += other.m;
-    bilinear = true;
-  }
   radius = up(up(radius + other.radius) + kGamma * up(scale));
 }
 
 double AffineInverseAction::Combination::upper() const {
   double r = radius;
-  if (bilinear) {
-    double scale = 0.0;
-    const double form = bilinearUpper(pose, geometry, m, vars, params, nullptr, 1.0, scale);
-    return interval::rounding::addUp(centre, up(up(r + form) + kGamma * up(scale)));
-  }
   for (int i = 0; i < vars; ++i) r += std::abs(pose[i]);
   for (int p = 0; p < params; ++p) r += std::abs(geometry[p]);
   return interval::rounding::addUp(centre, up(r));
@@ -797,20 +591,9 @@ double AffineInverseAction::Combination::upper() const {
 
 double AffineInverseAction::Combination::lower() const {
   double r = radius;
-  if (bilinear) {
-    double scale = 0.0;
-    const double form = bilinearUpper(pose, geometry, m, vars, params, nullptr, -1.0, scale);
-    return interval::rounding::subDown(centre, up(up(r + form) + kGamma * up(scale)));
-  }
   for (int i = 0; i < vars; ++i) r += std::abs(pose[i]);
   for (int p = 0; p < params; ++p) r += std::abs(geometry[p]);
   return interval::rounding::subDown(centre, up(r));
-}
-
-void AffineInverseAction::Combination::poseShares(double* share) const {
-  double scale = 0.0;
-  if (bilinear) bilinearUpper(pose, geometry, m, vars, params, nullptr, 1.0, scale, share);
-  for (int i = 0; i < vars; ++i) share[i] = (bilinear ? share[i] : std::abs(pose[i])) + poseSpread[i];
 }
 
 }  // namespace enclosure

@@ -149,21 +149,6 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     IMat batch(n, m);
     for (int q = 0; q < m; ++q) batch.col(q) = columns[first + q].v;
     if (!act.apply(batch, nv)) return false;
-    // The pose x geometry terms as a bilinear form (AffineInverseAction::refineBilinear), only where the plain bound
-    // is not good enough already but could be without those terms (it costs about a tenth of the enclosure).
-    if (params > 0) {
-      bool refine = box.targets.size() != n;
-      if (!refine) {
-        bool above = false, reachable = true;
-        for (int q = 0; q < m; ++q) {
-          const double plain = nv.entry(k, q).upper();
-          above = above || !(plain <= box.targets[k]);
-          reachable = reachable && plain - nv.cross(k, q) <= box.targets[k];
-        }
-        refine = above && reachable;
-      }
-      if (refine) act.refineBilinear(nv, k);
-    }
     for (int q = 0; q < m; ++q) {
       for (int j = 0; j < m; ++j) unit[j] = j == q ? 1.0 : 0.0;
       AffineInverseAction::combine(nv, k, unit, comb);
@@ -176,9 +161,8 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       const double estimate = comb.centre + first + second;
       atCentre[k] = std::max(atCentre[k], estimate);
       lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
-      const double combUpper = comb.upper();
-      if (combUpper > upper[k]) {
-        upper[k] = combUpper;
+      if (comb.upper() > upper[k]) {
+        upper[k] = comb.upper();
         best[k] = comb;
       }
     }
@@ -220,10 +204,8 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     if (!(bound > 0.0) || !std::isfinite(bound)) continue;
     // Bisection hints: each variable's share of the bound's width; sensitivities d f_k / d g_p ~ coefficient / h_p
     // (only the sign is used).
-    double shares[kMaxDof];
-    best[k].poseShares(shares);
     for (int i = 0; i < vars; ++i) {
-      out.componentSmear(k, i) = shares[i] / bound;
+      out.componentSmear(k, i) = (std::abs(best[k].pose[i]) + best[k].poseSpread[i]) / bound;
       smear[i] = std::max(smear[i], out.componentSmear(k, i));
       largest = std::max(largest, smear[i]);
     }

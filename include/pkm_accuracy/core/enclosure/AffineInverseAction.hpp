@@ -21,11 +21,6 @@
 // here is heuristic: every bound is rigorous (rounding included, midpoint-radius double arithmetic with a priori error
 // bounds).
 //
-// refineBilinear() can replace |S L y| + |L S y| in one row by their second-order part P L v + L P v as a bilinear
-// form in (pose, geometry) with explicit coefficients (and the rest in magnitude): where a geometry coefficient
-// dominates its variation with the pose, its sign is then fixed at the maximum and the cross terms add to the pose
-// coefficients with signs instead of in magnitude (docs/uncertainty.md).
-//
 // This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
 // O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
 #pragma once
@@ -41,8 +36,6 @@ class AffineInverseAction {
   static constexpr int kEntries = GeometryDerivatives::kCapacity;
   using EntryMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kEntries, kMaxDof>;     ///< entries x n
   using RowEntryMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kEntries>;  ///< n x entries
-  /// (p, i): the coefficient of gamma_p tau_i in a bilinear term (parameters x box variables).
-  using BilinearMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxGeometryParameters, kMaxDof>;
 
   /// Affine forms of the entries of N V over the box: entry (k, j) is
   ///   centre(k, j) + sum_i pose[i](k, j) tau_i + sum_p geometry[j](k, p) gamma_p + [-radius(k, j), radius(k, j)]
@@ -64,21 +57,8 @@ class AffineInverseAction {
     EntryMat dvm, dvr, rho;
     EntryMat sigma;  ///< sigma(e, j) >= |d_e . ((E0 + P) y_j)| (the pose part of E applied to y)
     DMat ll;
-    /// Row bilinearRow (-1: none) may carry, per column j with hasBilinear[j], the pose x geometry terms of the
-    /// remainder as a bilinear form: entry (bilinearRow, j) is then
-    ///   centre + sum_i pose_i tau_i + sum_p (geometry_p + sum_i bilinear[j](p, i) tau_i) gamma_p +- radius,
-    /// and radius no longer holds those terms (only what the form leaves over, crossRest). See refineBilinear().
-    int bilinearRow = -1;
-    std::array<bool, kMaxDof> hasBilinear{};
-    std::array<BilinearMat, kMaxDof> bilinear;
-    /// What refineBilinear() needs from apply(): the radius parts yr (of V - E0 V), |S S y| and the first-order
-    /// terms' (linear); B (>= |Lambda| row by row), z >= |y|, yv >= |y - v|, D_i V (midpoint, radius) and poseSpread
-    /// before the remainder's shares (poseBase).
-    DMat yr, ssy, linear, b, z, yv;
-    DMat cross;  ///< the bounds of |S L y| + |L S y| in radius (what refineBilinear() can improve on, at most)
-    /// Row bilinearRow, columns with hasBilinear: the bound of |S L y + L S y - the bilinear form| in radius.
-    DMat crossRest;
-    std::array<DMat, kMaxDof> dvmi, dvri, poseBase;
+    /// The other parts of the remainder's bound in radius: ssy >= |S S y|, cross >= |S L y| + |L S y| (tests).
+    DMat ssy, cross;
     /// Enclosure of entry (k, j).
     Interval entry(int k, int j) const;
   };
@@ -89,16 +69,9 @@ class AffineInverseAction {
     double pose[kMaxDof];
     double poseSpread[kMaxDof];  ///< included in radius; for bisection hints
     double geometry[kMaxGeometryParameters];
-    /// With `bilinear`, the form also has the terms sum_{p,i} m(p, i) gamma_p tau_i (combined from the columns'
-    /// AffineMatrix::bilinear).
-    bool bilinear = false;
-    BilinearMat m;
     /// Upper / lower end of its range over the box (rounded outward).
     double upper() const;
     double lower() const;
-    /// Each variable's share of the range (bisection hints, not certified): |pose_i| + poseSpread_i, with a bilinear
-    /// form |the coefficient of tau_i at the maximum| + poseSpread_i + the terms m(p, i) of the undetermined gamma_p.
-    void poseShares(double* share) const;
     /// this += other (same box): coefficients add, radii add (rounded up).
     void add(const Combination& other);
     int vars = 0, params = 0;
@@ -120,12 +93,6 @@ class AffineInverseAction {
   /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).
   bool apply(const IMat& v, AffineMatrix& out) const;
 
-  /// Row k of `a` (from apply(), with this prepare()) with the pose x geometry terms of the remainder as a bilinear
-  /// form (AffineMatrix::bilinear), in the columns where that gives the smaller bound over the box; the other
-  /// columns and rows are unchanged. Once per AffineMatrix (a second call, or one without geometry or pose
-  /// variables, does nothing).
-  void refineBilinear(AffineMatrix& a, int k) const;
-
   /// Monotonicity in the geometry (the seed paper's section 4.2, for the uncertain parameters). For
   /// phi = (N v)_k, v column j of `a`: d phi / d g_p = -sum over p's entries e of J_{k,row(e)} (d_e . y), y = N v
   /// (each entry moves one row of J^-1). Sets dir[p] to +1 (-1) where that derivative is certified >= 0 (<= 0) over
@@ -143,8 +110,6 @@ class AffineInverseAction {
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
   /// @return false if the verification fails (the Neumann majorant does not converge).
   bool majorant(const DMat& rhs, DMat& z) const;
-  /// R(x)(i, j) = sum over the entries e of row i of h_p(e) x(e, j), rounded up (x >= 0).
-  DMat rowSumsH(const EntryMat& x) const;
 
   int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
   DMat c_;
@@ -166,11 +131,6 @@ class AffineInverseAction {
   EntryMat magG_;                         ///< |d_e|
   EntryMat dS_;                           ///< (e, l): >= |d_e^T S|_l, S = E0 + P
   DMat sc_;                               ///< >= |S C|
-  // For the bilinear form of the pose x geometry terms (refineBilinear()):
-  std::array<DMat, kMaxDof> dc_;  ///< dm_i C (computed; rounding error <= kGamma |dm_i| |C|)
-  DMat e0c_, pc_;                 ///< >= |E0 C|, >= |P C| (P = sum_i D_i (t_i - t0_i))
-  DMat pmC_, prC_;                ///< >= (sum_i |dm_i| |dev_i|) |C|, >= (sum_i dr_i |dev_i|) |C|
-  DMat rGr_, rGm_, rMagG_, rDS_;  ///< row sums with h_p of gr, |gm|, |d_e|, dS over each row's entries
 };
 
 }  // namespace enclosure
