@@ -182,15 +182,13 @@ struct RotationMR {
   }
 };
 
-/// One leg over a pose box, midpoint-radius: d = p + R b - A, u = R (b - c), w = u x d, n = d / L, m = w / L,
-/// inv = 1 / L (d, u, L from endpoint intervals), and their first derivatives with respect to the six pose
-/// coordinates: d_a, u_a, L_a = n . d_a, n_a = (d_a - n L_a) / L, m_a = (u_a x d + u x d_a - m L_a) / L.
-struct LegMR {
+/// One leg over a pose box (and the anchors' ranges), midpoint-radius: d = p + R b - A, u = R (b - c), w = u x d,
+/// n = d / L, m = w / L, inv = 1 / L (d, u, L from endpoint intervals, where the dependencies are few).
+struct LegBaseMR {
   using S = interval::MidRad;
-  S bv[3], bc[3], d[3], u[3], w[3], n[3], m[3], inv;
-  S da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
-  LegMR(const Rotation& rot, const RotationMR& rm, const IVec& q, const std::array<Interval, 3>& a,
-        const std::array<Interval, 3>& b, const std::array<Interval, 3>& c) {
+  S d[3], u[3], w[3], n[3], m[3], inv;
+  LegBaseMR(const Rotation& rot, const IVec& q, const std::array<Interval, 3>& a, const std::array<Interval, 3>& b,
+            const std::array<Interval, 3>& c) {
     Interval dI[3], uI[3];
     for (int k = 0; k < 3; ++k) {
       dI[k] = q[k] + (rot.r[k][0] * b[0] + rot.r[k][1] * b[1] + rot.r[k][2] * b[2]) - a[k];
@@ -199,8 +197,6 @@ struct LegMR {
     const Interval lenI = sqrt(sqr(dI[0]) + sqr(dI[1]) + sqr(dI[2]));
     inv = S(Interval(1.0) / lenI);
     for (int k = 0; k < 3; ++k) {
-      bv[k] = S(b[k]);
-      bc[k] = S(b[k] - c[k]);
       d[k] = S(dI[k]);
       u[k] = S(uI[k]);
     }
@@ -208,6 +204,21 @@ struct LegMR {
     for (int k = 0; k < 3; ++k) {
       n[k] = d[k] * inv;
       m[k] = w[k] * inv;
+    }
+  }
+};
+
+/// LegBaseMR and the first derivatives with respect to the six pose coordinates: d_a, u_a, L_a = n . d_a,
+/// n_a = (d_a - n L_a) / L, m_a = (u_a x d + u x d_a - m L_a) / L.
+struct LegMR : LegBaseMR {
+  S bv[3], bc[3];  // b and b - c
+  S da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
+  LegMR(const Rotation& rot, const RotationMR& rm, const IVec& q, const std::array<Interval, 3>& a,
+        const std::array<Interval, 3>& b, const std::array<Interval, 3>& c)
+      : LegBaseMR(rot, q, a, b, c) {
+    for (int k = 0; k < 3; ++k) {
+      bv[k] = S(b[k]);
+      bc[k] = S(b[k] - c[k]);
     }
     for (int va = 0; va < 6; ++va) {
       S wa[3];
@@ -318,25 +329,13 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
   using S = interval::MidRad;
   const Rotation rot(q);
   const auto& r = rot.r;
-  // d = B_i - A_i, u = R (b_i - c) and |d| in interval arithmetic (where the dependencies are few), the rest in
-  // midpoint-radius arithmetic (rigorous, and cheaper: bench/RESULTS.md).
-  S d[6][3], u[6][3], n[6][3], m[6][3], inv[6], rm[3][3];
+  // The legs (LegBaseMR: d, u, |d| from endpoint intervals, the rest in midpoint-radius arithmetic, rigorous and
+  // cheaper: bench/RESULTS.md).
+  std::array<LegBaseMR, 6> leg{LegBaseMR(rot, q, a_[0], b_[0], c_), LegBaseMR(rot, q, a_[1], b_[1], c_),
+                               LegBaseMR(rot, q, a_[2], b_[2], c_), LegBaseMR(rot, q, a_[3], b_[3], c_),
+                               LegBaseMR(rot, q, a_[4], b_[4], c_), LegBaseMR(rot, q, a_[5], b_[5], c_)};
+  S rm[3][3];
   Interval rc[3];
-  for (int i = 0; i < 6; ++i) {
-    const Interval bc[3] = {b_[i][0] - c_[0], b_[i][1] - c_[1], b_[i][2] - c_[2]};
-    Interval dI[3];
-    for (int k = 0; k < 3; ++k) {
-      const Interval rb = r[k][0] * b_[i][0] + r[k][1] * b_[i][1] + r[k][2] * b_[i][2];
-      u[i][k] = S(r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2]);
-      dI[k] = q[k] + rb - a_[i][k];
-      d[i][k] = S(dI[k]);
-    }
-    inv[i] = S(Interval(1.0) / sqrt(sqr(dI[0]) + sqr(dI[1]) + sqr(dI[2])));
-    for (int k = 0; k < 3; ++k) n[i][k] = d[i][k] * inv[i];
-    m[i][0] = (u[i][1] * d[i][2] - u[i][2] * d[i][1]) * inv[i];
-    m[i][1] = (u[i][2] * d[i][0] - u[i][0] * d[i][2]) * inv[i];
-    m[i][2] = (u[i][0] * d[i][1] - u[i][1] * d[i][0]) * inv[i];
-  }
   // Each kind of parameter moves d and u along a fixed direction, so rowDerivative() simplifies (same formulas:
   // dL = (d . dd) / L, dn = (dd - n dL) / L, dm = (du x d + u x dd - m dL) / L):
   //   base anchor A_i, coordinate c: dd = -e_c, du = 0: dL = -n_c, dn = (n n_c - e_c) / L, dm = (m n_c - u x e_c) / L;
@@ -360,37 +359,36 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
     if (par.kind == Parameter::Base) {
       const int i = par.leg;
       auto& v = entry(p, i);
-      const S nc = n[i][c];
+      const S nc = leg[i].n[c];
       // u x e_c: component c is 0, component c1 is u_c2, component c2 is -u_c1.
       S ue[3];
       ue[c] = S(0.0);
-      ue[c1] = u[i][c2];
-      ue[c2] = -u[i][c1];
+      ue[c1] = leg[i].u[c2];
+      ue[c2] = -leg[i].u[c1];
       for (int k = 0; k < 3; ++k) {
-        v[k] = ((k == c ? n[i][k] * nc - one : n[i][k] * nc) * inv[i]);
-        v[3 + k] = ((m[i][k] * nc - ue[k]) * inv[i]);
+        v[k] = (k == c ? leg[i].n[k] * nc - one : leg[i].n[k] * nc) * leg[i].inv;
+        v[3 + k] = (leg[i].m[k] * nc - ue[k]) * leg[i].inv;
       }
     } else if (par.kind == Parameter::Platform) {
       const int i = par.leg;
       auto& v = entry(p, i);
       S w[3];
       for (int k = 0; k < 3; ++k) w[k] = S(q[k] + rc[k] - a_[i][k]);
-      const S dl = n[i][0] * column[0] + n[i][1] * column[1] + n[i][2] * column[2];
-      const S dw[3] = {column[1] * w[2] - column[2] * w[1], column[2] * w[0] - column[0] * w[2],
-                       column[0] * w[1] - column[1] * w[0]};
+      const S dl = leg[i].n[0] * column[0] + leg[i].n[1] * column[1] + leg[i].n[2] * column[2];
+      S dw[3];
+      RotationMR::cross(column, w, dw);
       for (int k = 0; k < 3; ++k) {
-        v[k] = ((column[k] - n[i][k] * dl) * inv[i]);
-        v[3 + k] = ((dw[k] - m[i][k] * dl) * inv[i]);
+        v[k] = (column[k] - leg[i].n[k] * dl) * leg[i].inv;
+        v[3 + k] = (dw[k] - leg[i].m[k] * dl) * leg[i].inv;
       }
     } else {
       for (int i = 0; i < 6; ++i) {
         auto& v = entry(p, i);
-        const S* dv = d[i];
-        const S dw[3] = {dv[1] * column[2] - dv[2] * column[1], dv[2] * column[0] - dv[0] * column[2],
-                         dv[0] * column[1] - dv[1] * column[0]};
+        S dw[3];
+        RotationMR::cross(leg[i].d, column, dw);
         for (int k = 0; k < 3; ++k) {
           v[k] = S(0.0);
-          v[3 + k] = (dw[k] * inv[i]);
+          v[3 + k] = dw[k] * leg[i].inv;
         }
       }
     }
