@@ -757,12 +757,12 @@ TEST_F(CliTest, UncertaintySensitivePoseIsReportedWithItsGeometries) {
 
 TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   // Always: the geometry is bisected from the start, so a box budget leaves undecided boxes with narrowed geometry
-  // ranges (listed per box, named); never: no geometry split at all. (The whole run takes 31 boxes since the centred
-  // pose derivatives; one thread, so the budget of 24 stops it at the same point every time: 2 of the 7 boxes left
-  // have narrowed ranges.)
+  // ranges (listed per box, named); never: no geometry split at all. (The whole run takes 29 boxes since the Taylor
+  // pose slopes; one thread, so the budget of 10 stops it at the same point every time: 3 of the 9 boxes left have
+  // narrowed ranges.)
   const std::vector<double> thresholds = {1.104e-4, 1.2e-4, 1e-3, 1e-2, 1e-2, 1e-2};
   Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "1e-4",
-                    "--threads", "1", "--geometry-splitting", "always", "--stall-levels", "3", "--max-boxes", "24"},
+                    "--threads", "1", "--geometry-splitting", "always", "--stall-levels", "3", "--max-boxes", "10"},
                    2);
   EXPECT_EQ(j["reason"].str(), "box_budget");
   EXPECT_EQ(j["geometry_splitting"].str(), "always");

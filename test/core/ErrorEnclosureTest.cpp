@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <mpfr.h>
+#include <algorithm>
 #include <iostream>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "MpfrGough.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 
@@ -210,6 +212,67 @@ TEST(ErrorEnclosure, SecondOrderIsTightOnEighthBoxesThroughTheCentredPoseDerivat
   }
   std::cout << "[ info     ] 1/8 boxes at workspace corners: bound / sampled maximum <= " << worst << "\n";
   EXPECT_LT(worst, 1.35);
+}
+
+TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
+  // AffineInverseAction's pose slopes T_i, entry by entry either the range of C dJ^-1/dt_i over the box or the
+  // second-order Taylor slope D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (half the centred range's radius):
+  // C (J^-1(t) - J^-1(t0)) - sum_i mid(T_i) (t_i - t0_i) must stay within sum_i rad(T_i) |t_i - t0_i| at every vertex
+  // (where the second-order term is largest) and at random points, with J^-1 in MPFR. The bound must also be reached
+  // closely somewhere (largest ratio > 0.6), so that a Hessian term too small by a factor 0.6 fails here.
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const IVec whole = ws.initialBox();
+  std::mt19937_64 rng(71);
+  double worstRatio = 0.0;
+  int checked = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    // Boxes of 1/4, 1/8, 1/16 and 1/32 of every range, at random corners of the workspace or inside it.
+    const double fraction = std::pow(0.5, 2 + trial % 4);
+    IVec box(6);
+    for (int i = 0; i < 6; ++i) {
+      const double w = fraction * (whole[i].upper() - whole[i].lower());
+      const double lo = trial < 8 ? (rng() % 2 ? whole[i].upper() - w : whole[i].lower())
+                                  : std::uniform_real_distribution<double>(whole[i].lower(), whole[i].upper() - w)(rng);
+      box[i] = Interval(lo, lo + w);
+    }
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::AffineInverseAction act;
+    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    const DMat& c = act.preconditioner();
+    DVec t0(6);
+    for (int i = 0; i < 6; ++i) t0[i] = in.centrePose[i].mid();
+    const MpMat j0 = mpInverseJacobian(rf.geometry, t0);
+    for (int s = 0; s < 64 + 16; ++s) {
+      DVec t(6);
+      if (s < 64) {
+        for (int i = 0; i < 6; ++i) t[i] = (s >> i) & 1 ? box[i].upper() : box[i].lower();
+      } else {
+        t = test::randomPoint(box, rng);
+      }
+      const MpMat jt = mpInverseJacobian(rf.geometry, t);
+      for (int k = 0; k < 6; ++k)
+        for (int l = 0; l < 6; ++l) {
+          Mp diff(0.0);
+          for (int m = 0; m < 6; ++m) diff = diff + Mp(c(k, m)) * (jt[m][l] - j0[m][l]);
+          double bound = 0.0;
+          for (int i = 0; i < 6; ++i) {
+            const Mp dev = Mp(t[i]) - Mp(t0[i]);
+            diff = diff - Mp(act.poseSlopeMid(i)(k, l)) * dev;
+            bound += act.poseSlopeRad(i)(k, l) * std::abs(t[i] - t0[i]);
+          }
+          const double excess = toDouble(mpAbs(diff));
+          ASSERT_TRUE(mpLessEqual(mpAbs(diff), bound * (1.0 + 1e-12)))
+              << "trial " << trial << " sample " << s << " entry " << k << "," << l << ": " << excess << " > " << bound;
+          if (bound > 0.0) worstRatio = std::max(worstRatio, excess / bound);
+          ++checked;
+        }
+    }
+  }
+  std::cout << "[ info     ] pose slopes: largest |residual| / bound " << worstRatio << " over " << checked << " checks\n";
+  EXPECT_GT(worstRatio, 0.6);
 }
 
 TEST(ErrorEnclosure, BoxContainingASingularPoseIsUnbounded) {

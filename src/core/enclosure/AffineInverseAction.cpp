@@ -141,10 +141,15 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       DMat cm, cr, m, r;
       split(atCentre.first[i], m, r);
       product(c_, zero, m, r, cm, cr);
+      DMat half = cr;  // the Taylor slope's radius (below)
       for (int l = 0; l < n_; ++l) {
         const int p = MatrixHessian::index(i, l);
-        cr = upAll(DMat(cr + upAll(DMat((hm[p].cwiseAbs() + hr[p]) * devMag_[l]))));
+        const DMat t = upAll(DMat((hm[p].cwiseAbs() + hr[p]) * devMag_[l]));
+        cr = upAll(DMat(cr + t));
+        half = upAll(DMat(half + 0.5 * t));
       }
+      tm_[i] = cm;
+      tr_[i] = half;
       // Intersection of [dm -+ dr] and [cm -+ cr] (both contain every D_i(t), t in the box).
       for (int k = 0; k < n_; ++k) {
         for (int l = 0; l < n_; ++l) {
@@ -156,6 +161,30 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
         }
       }
     }
+  }
+  // Taylor slopes (second order, integral remainder): E(t, g0) = E0 + sum_i D_i(t0) dt_i + sum_{i,l} dt_i dt_l
+  // int_0^1 (1 - s) C H_il(t0 + s dt) ds, and int_0^1 (1 - s) ds = 1/2, so entry by entry
+  // E(t, g0) - E0 = sum_i T_i dt_i with T_i in D_i(t0) + (1/2) sum_l [C H_il(box)] [-dev_l, dev_l]: half the radius of
+  // the centred range above. T_i is a slope for expansions at the box centre, not a range of D_i, so for each entry
+  // (k, j) either every T_i(k, j) or every range D_i(k, j) is used (each choice is a valid representation of that
+  // entry of E(t, g0) - E0): the one with the smaller sum_i radius dev_i.
+  if (centred) {
+    for (int k = 0; k < n_; ++k) {
+      for (int l = 0; l < n_; ++l) {
+        double rangeCost = 0.0, taylorCost = 0.0;
+        for (int i = 0; i < vars_; ++i) {
+          rangeCost += dr_[i](k, l) * devMag_[i];
+          taylorCost += tr_[i](k, l) * devMag_[i];
+        }
+        if (!(taylorCost < rangeCost)) continue;
+        for (int i = 0; i < vars_; ++i) {
+          dm_[i](k, l) = tm_[i](k, l);
+          dr_[i](k, l) = tr_[i](k, l);
+        }
+      }
+    }
+  }
+  for (int i = 0; i < vars_; ++i) {
     const DMat term = (dm_[i].cwiseAbs() + dr_[i]) * devMag_[i];
     poseWeight_[i] = term.rowwise().sum();
     magS += term;

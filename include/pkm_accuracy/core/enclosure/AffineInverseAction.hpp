@@ -1,8 +1,9 @@
 // Enclosure of N(t, g) v over a box of poses t AND the box of uncertain geometry parameters g, where
 // N = (C J^-1(t, g))^-1 and C is an approximate inverse of J^-1 at the box centre with the geometry at its centre.
 //
-// With E = C J^-1 - I = E0 + sum_i D_i (t_i - t0_i) + sum_p G_p (g_p - g0_p) (mean-value forms: D_i over the pose
-// box at the centre geometry, G_p over the pose box and every geometry), N = I - E + E^2 N:
+// With E = C J^-1 - I = E0 + sum_i D_i (t_i - t0_i) + sum_p G_p (g_p - g0_p) (D_i: pose slopes at the centre geometry,
+// entry by entry the range of the derivative over the pose box or its second-order Taylor slope at the box centre,
+// half as wide; G_p: mean-value form over the pose box and every geometry), N = I - E + E^2 N:
 //   (N v)_k in (v - E0 v)_k - sum_i (D_i v)_k dev_i - sum_p (G_p v)_k dev_p  +/-  second-order remainder,
 // where every first-order term is exact per variable (the cancellations across legs are kept, unlike interval
 // coefficients, which widen every entry of E independently). The remainder splits E = S + L, S the pose part
@@ -87,6 +88,10 @@ class AffineInverseAction {
 
   /// The preconditioner C (valid after prepare()).
   const DMat& preconditioner() const { return c_; }
+  /// The pose slopes (valid after prepare()): for every t of the box, entry by entry,
+  /// C (J^-1(t, g0) - J^-1(t0, g0)) = sum_i T_i (t_i - t0_i) with T_i(k, l) in [mid(k, l) -+ rad(k, l)] (tests).
+  const DMat& poseSlopeMid(int i) const { return dm_[i]; }
+  const DMat& poseSlopeRad(int i) const { return dr_[i]; }
   int parameters() const { return params_; }
 
   /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
@@ -114,7 +119,10 @@ class AffineInverseAction {
   int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
   DMat c_;
   DMat e0m_, e0r_;                       ///< C J^-1(centre, g0) - I, midpoint and radius
-  std::array<DMat, kMaxDof> dm_, dr_;    ///< C dJ^-1/dt_i over the box at the centre geometry, midpoint and radius
+  /// Pose slopes T_i at the centre geometry, midpoint and radius: entry by entry the range of C dJ^-1/dt_i over the
+  /// box or the second-order Taylor slope (prepare()); either way E(t, g0) - E0 = sum_i T_i (t_i - t0_i).
+  std::array<DMat, kMaxDof> dm_, dr_;
+  std::array<DMat, kMaxDof> tm_, tr_;    ///< Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (prepare)
   double devMag_[kMaxDof];               ///< |t_i - t0_i| <=
   EntryMat gm_, gr_;                     ///< row derivative d_e per geometry entry (over the pose box and geometry box)
   RowEntryMat cg_;                       ///< (k, e): C_{k, row(e)}
