@@ -271,7 +271,8 @@ TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
         }
     }
   }
-  std::cout << "[ info     ] pose slopes: largest |residual| / bound " << worstRatio << " over " << checked << " checks\n";
+  std::cout << "[ info     ] pose slopes: largest |residual| / bound " << worstRatio << " over " << checked
+            << " checks\n";
   EXPECT_GT(worstRatio, 0.6);
 }
 

@@ -118,7 +118,7 @@ class AffineInverseAction {
 
   int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
   DMat c_;
-  DMat e0m_, e0r_;                       ///< C J^-1(centre, g0) - I, midpoint and radius
+  DMat e0m_, e0r_;  ///< C J^-1(centre, g0) - I, midpoint and radius
   /// Pose slopes T_i at the centre geometry, midpoint and radius: entry by entry the range of C dJ^-1/dt_i over the
   /// box or the second-order Taylor slope (prepare()); either way E(t, g0) - E0 = sum_i T_i (t_i - t0_i).
   std::array<DMat, kMaxDof> dm_, dr_;
