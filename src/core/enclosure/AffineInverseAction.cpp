@@ -136,6 +136,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     split(multiplyMidRad(c_, centred ? hessian.first[i] : poseD.d[i]), dm_[i], dr_[i]);
     devMag_[i] = box.deviation[i].mag();
   }
+  std::array<DMat, kMaxDof> tm, tr;  // Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (below)
   for (int i = 0; i < vars_; ++i) {
     if (centred) {
       DMat cm, cr, m, r;
@@ -148,8 +149,8 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
         cr = upAll(DMat(cr + t));
         half = upAll(DMat(half + 0.5 * t));
       }
-      tm_[i] = cm;
-      tr_[i] = half;
+      tm[i] = cm;
+      tr[i] = half;
       // Intersection of [dm -+ dr] and [cm -+ cr] (both contain every D_i(t), t in the box).
       for (int k = 0; k < n_; ++k) {
         for (int l = 0; l < n_; ++l) {
@@ -174,12 +175,12 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
         double rangeCost = 0.0, taylorCost = 0.0;
         for (int i = 0; i < vars_; ++i) {
           rangeCost += dr_[i](k, l) * devMag_[i];
-          taylorCost += tr_[i](k, l) * devMag_[i];
+          taylorCost += tr[i](k, l) * devMag_[i];
         }
         if (!(taylorCost < rangeCost)) continue;
         for (int i = 0; i < vars_; ++i) {
-          dm_[i](k, l) = tm_[i](k, l);
-          dr_[i](k, l) = tr_[i](k, l);
+          dm_[i](k, l) = tm[i](k, l);
+          dr_[i](k, l) = tr[i](k, l);
         }
       }
     }

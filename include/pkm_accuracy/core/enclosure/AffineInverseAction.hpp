@@ -122,7 +122,6 @@ class AffineInverseAction {
   /// Pose slopes T_i at the centre geometry, midpoint and radius: entry by entry the range of C dJ^-1/dt_i over the
   /// box or the second-order Taylor slope (prepare()); either way E(t, g0) - E0 = sum_i T_i (t_i - t0_i).
   std::array<DMat, kMaxDof> dm_, dr_;
-  std::array<DMat, kMaxDof> tm_, tr_;    ///< Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (prepare)
   double devMag_[kMaxDof];               ///< |t_i - t0_i| <=
   EntryMat gm_, gr_;                     ///< row derivative d_e per geometry entry (over the pose box and geometry box)
   RowEntryMat cg_;                       ///< (k, e): C_{k, row(e)}
