@@ -64,6 +64,15 @@ struct GeometryRowDerivative {
   int parameter = 0;
   int row = 0;
   std::array<interval::MidRad, kMaxDof> d;  ///< midpoint-radius form (what the enclosures use)
+  /// Optional (affine = true): the same derivative as a first-order affine form in the pose. For every pose t of the
+  /// box and every admissible geometry there is one tau in [-1, 1]^kMaxDof, the same for every component of every
+  /// entry of the GeometryDerivatives (tau_m: pose coordinate m, scaled to the box), with component l of d in
+  ///   centre[l] + sum_m slope[l][m] tau_m + [-radius[l], radius[l]].
+  /// So dot products d . v keep the correlations between the components, which `d` loses (each component varies
+  /// over the whole box independently).
+  bool affine = false;
+  std::array<double, kMaxDof> centre, radius;
+  std::array<std::array<double, kMaxDof>, kMaxDof> slope;
 };
 
 /// Derivatives of J^-1 with respect to every uncertain geometry parameter, as row entries (fixed capacity).

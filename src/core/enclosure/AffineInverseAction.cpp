@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
 
@@ -211,6 +212,22 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     }
     for (int k = 0; k < n_; ++k) cg_(k, e) = c_(k, g.row);
   }
+  // The affine forms (when the model gives them for every entry).
+  affine_ = entries_ > 0 && n_ == kMaxDof;
+  for (int e = 0; e < entries_ && affine_; ++e) affine_ = geo.entries[e].affine;
+  for (int e = 0; e < entries_ && affine_; ++e) {
+    const GeometryRowDerivative& g = geo.entries[e];
+    for (int l = 0; l < kMaxDof; ++l) {
+      affCentre_[l][e] = g.centre[l];
+      affRadius_[l][e] = g.radius[l];
+      double w = std::abs(g.centre[l]);
+      for (int m = 0; m < kMaxDof; ++m) {
+        affSlope_[m][l][e] = g.slope[l][m];
+        w += std::abs(g.slope[l][m]);
+      }
+      affWeight_[l][e] = up(w);
+    }
+  }
   absC_ = c_.cwiseAbs();
   // |L| <= sum_e |C_{., row(e)}| h_p |d_e|^T = |C| R with R(i, l) = sum over the entries e of row i of h_p |d_e|_l.
   const EntryMat magG = upAll(EntryMat(gm_.cwiseAbs() + gr_));
@@ -221,6 +238,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   {
     EntryMat m, r;
     product(gm_, gr_, c_, zero, m, r);
+    affineDots(c_, zero, m, r);
     alpha_ = upAll(EntryMat(m.cwiseAbs() + r));
     dcm_ = m;
     dcr_ = r;
@@ -309,7 +327,14 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
 
   // Geometry: DV = D_G V (first-order terms; also inside L L Y, as y = v + (y - v)).
   EntryMat dvm, dvr;
-  product(gm_, gr_, vm, vr, dvm, dvr);
+  if (affine_) {
+    // (The affine form is always the narrower one: measured, the same boxes without the interval product.)
+    dvm.resize(entries_, m);
+    dvr = EntryMat::Constant(entries_, m, std::numeric_limits<double>::infinity());
+    affineDots(vm, vr, dvm, dvr);
+  } else {
+    product(gm_, gr_, vm, vr, dvm, dvr);
+  }
   const EntryMat magDV = upAll(EntryMat(dvm.cwiseAbs() + dvr));
   // Products cgh X (n x entries times entries x m, X >= 0) through the rows the entries move: cgh(k, e) =
   // |C_{k,row(e)}| h_p(e), so cgh X = |C| R(X) with R(X)(i, j) = sum over the entries e of row i of h_p(e) X(e, j)
@@ -432,6 +457,51 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   }
   out.radius = upAll(radius);
   return out.radius.allFinite() && out.centre.allFinite();
+}
+
+void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr) const {
+  if (!affine_) return;
+  // d_e . v = centre . vm + sum_m tau_m (slope_m . vm) + (the radii's part) . vm + d_e . (v - vm). The computed dot
+  // products are off by at most kGamma times the dot products of the magnitudes, and |d_e . (v - vm)| <= |d_e| vr
+  // with |d_e| <= |centre| + sum_m |slope_m| + radius componentwise, so with weight = |centre| + sum_m |slope_m| the
+  // radius is
+  //   sum_m |slope_m . vm| + weight . (vr + kGamma |vm|) + radius . (|vm| + vr).
+  const int m = static_cast<int>(vm.cols());
+  double centre[kEntries], rad[kEntries], t[kEntries];
+  for (int j = 0; j < m; ++j) {
+    double v[kMaxDof], extra[kMaxDof], absV[kMaxDof];
+    for (int l = 0; l < kMaxDof; ++l) {
+      v[l] = vm(l, j);
+      extra[l] = vr(l, j) + kGamma * std::abs(v[l]);
+      absV[l] = std::abs(v[l]) + vr(l, j);
+    }
+    for (int e = 0; e < entries_; ++e) centre[e] = rad[e] = 0.0;
+    for (int l = 0; l < kMaxDof; ++l) {
+      const double vl = v[l], xl = extra[l], al = absV[l];
+      for (int e = 0; e < entries_; ++e) {
+        centre[e] += affCentre_[l][e] * vl;
+        rad[e] += affWeight_[l][e] * xl + affRadius_[l][e] * al;
+      }
+    }
+    for (int s = 0; s < kMaxDof; ++s) {
+      for (int e = 0; e < entries_; ++e) t[e] = 0.0;
+      for (int l = 0; l < kMaxDof; ++l) {
+        const double vl = v[l];
+        for (int e = 0; e < entries_; ++e) t[e] += affSlope_[s][l][e] * vl;
+      }
+      for (int e = 0; e < entries_; ++e) rad[e] += std::abs(t[e]);
+    }
+    // (Every term of rad is >= 0 and their sum has relative rounding error < 4 kGamma.)
+    double* mid = &dm(0, j);
+    double* radius = &dr(0, j);
+    for (int e = 0; e < entries_; ++e) {
+      const double r = up(up(rad[e]) * (1.0 + 4.0 * kGamma));
+      if (r < radius[e]) {
+        mid[e] = centre[e];
+        radius[e] = r;
+      }
+    }
+  }
 }
 
 int AffineInverseAction::monotoneDirections(const AffineMatrix& a, int j, const double* jSign, double* dir) const {

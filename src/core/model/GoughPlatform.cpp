@@ -1,9 +1,11 @@
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/interval/AffineForm.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/MidRad.hpp"
 
@@ -326,6 +328,23 @@ IMat GoughPlatform::inverseJacobianAtGeometryCentre(const IVec& pose) const {
 bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out) const {
   out.count = 0;
   if (params_.empty()) return true;
+  // One entry per (parameter, row it moves), in parameter order: an anchor moves its leg's row, the tool point every
+  // row. The anchors' entries come from affine forms in the pose (tighter, and their ranges are tighter than the
+  // midpoint-radius evaluation's: bench/RESULTS.md), the tool point's from the midpoint-radius formulas below.
+  bool tool = false;
+  for (int p = 0; p < geometryParameterCount(); ++p) {
+    const Parameter& par = params_[p];
+    const int rows = par.kind == Parameter::Tool ? 6 : 1;
+    for (int k = 0; k < rows; ++k) {
+      GeometryRowDerivative& e = out.entries[out.count++];
+      e.parameter = p;
+      e.row = par.kind == Parameter::Tool ? k : par.leg;
+      e.affine = false;
+    }
+    tool = tool || par.kind == Parameter::Tool;
+  }
+  affineGeometryDerivatives(q, out);
+  if (!tool) return true;
   using S = interval::MidRad;
   const Rotation rot(q);
   const auto& r = rot.r;
@@ -334,66 +353,119 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
   std::array<LegBaseMR, 6> leg{LegBaseMR(rot, q, a_[0], b_[0], c_), LegBaseMR(rot, q, a_[1], b_[1], c_),
                                LegBaseMR(rot, q, a_[2], b_[2], c_), LegBaseMR(rot, q, a_[3], b_[3], c_),
                                LegBaseMR(rot, q, a_[4], b_[4], c_), LegBaseMR(rot, q, a_[5], b_[5], c_)};
-  S rm[3][3];
-  Interval rc[3];
-  // Each kind of parameter moves d and u along a fixed direction, so rowDerivative() simplifies (same formulas:
-  // dL = (d . dd) / L, dn = (dd - n dL) / L, dm = (du x d + u x dd - m dL) / L):
-  //   base anchor A_i, coordinate c: dd = -e_c, du = 0: dL = -n_c, dn = (n n_c - e_c) / L, dm = (m n_c - u x e_c) / L;
-  //   platform anchor b_i:           dd = du = R e_c:   du x d + u x dd = R e_c x (d - u), d - u = p + R c - A_i;
-  //   tool point c:                  dd = 0, du = -R e_c: dL = 0, dn = 0, dm = (d x R e_c) / L.
-  for (int k = 0; k < 3; ++k) {
-    for (int l = 0; l < 3; ++l) rm[k][l] = S(r[k][l]);
-    rc[k] = r[k][0] * c_[0] + r[k][1] * c_[1] + r[k][2] * c_[2];
-  }
-  const S one(1.0);
-  auto entry = [&](int p, int row) -> std::array<S, kMaxDof>& {
-    GeometryRowDerivative& e = out.entries[out.count++];
-    e.parameter = p;
-    e.row = row;
-    return e.d;
-  };
-  for (int p = 0; p < geometryParameterCount(); ++p) {
-    const Parameter& par = params_[p];
-    const int c = par.coord, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-    const S column[3] = {rm[0][c], rm[1][c], rm[2][c]};  // R e_c
-    if (par.kind == Parameter::Base) {
-      const int i = par.leg;
-      auto& v = entry(p, i);
-      const S nc = leg[i].n[c];
-      // u x e_c: component c is 0, component c1 is u_c2, component c2 is -u_c1.
-      S ue[3];
-      ue[c] = S(0.0);
-      ue[c1] = leg[i].u[c2];
-      ue[c2] = -leg[i].u[c1];
-      for (int k = 0; k < 3; ++k) {
-        v[k] = (k == c ? leg[i].n[k] * nc - one : leg[i].n[k] * nc) * leg[i].inv;
-        v[3 + k] = (leg[i].m[k] * nc - ue[k]) * leg[i].inv;
-      }
-    } else if (par.kind == Parameter::Platform) {
-      const int i = par.leg;
-      auto& v = entry(p, i);
-      S w[3];
-      for (int k = 0; k < 3; ++k) w[k] = S(q[k] + rc[k] - a_[i][k]);
-      const S dl = leg[i].n[0] * column[0] + leg[i].n[1] * column[1] + leg[i].n[2] * column[2];
-      S dw[3];
-      RotationMR::cross(column, w, dw);
-      for (int k = 0; k < 3; ++k) {
-        v[k] = (column[k] - leg[i].n[k] * dl) * leg[i].inv;
-        v[3 + k] = (dw[k] - leg[i].m[k] * dl) * leg[i].inv;
-      }
-    } else {
-      for (int i = 0; i < 6; ++i) {
-        auto& v = entry(p, i);
-        S dw[3];
-        RotationMR::cross(leg[i].d, column, dw);
-        for (int k = 0; k < 3; ++k) {
-          v[k] = S(0.0);
-          v[3 + k] = dw[k] * leg[i].inv;
-        }
-      }
+  // The tool point c moves d by 0 and u = R (b - c) by -R e_c: dL = 0, dn = 0, dm = (d x R e_c) / L.
+  for (int e = 0; e < out.count; ++e) {
+    GeometryRowDerivative& entry = out.entries[e];
+    const Parameter& par = params_[entry.parameter];
+    if (par.kind != Parameter::Tool) continue;
+    const int c = par.coord, i = entry.row;
+    const S column[3] = {S(r[0][c]), S(r[1][c]), S(r[2][c])};  // R e_c
+    S dw[3];
+    RotationMR::cross(leg[i].d, column, dw);
+    for (int k = 0; k < 3; ++k) {
+      entry.d[k] = S(0.0);
+      entry.d[3 + k] = dw[k] * leg[i].inv;
     }
   }
   return true;
+}
+
+namespace {
+using Aff = interval::AffineForm<kMaxDof>;
+void cross(const Aff x[3], const Aff y[3], Aff out[3]) {
+  out[0] = x[1] * y[2] - x[2] * y[1];
+  out[1] = x[2] * y[0] - x[0] * y[2];
+  out[2] = x[0] * y[1] - x[1] * y[0];
+}
+}  // namespace
+
+void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives& out) const {
+  // Row i of J^-1 is (n, m) = (d / L, u x d / L), d = p + R b_i - A_i, u = R (b_i - c), L = |d|. Each anchor
+  // coordinate moves d and u along a fixed direction (dL = (d . dd) / L, dn = (dd - n dL) / L,
+  // dm = (du x d + u x dd - m dL) / L):
+  //   base anchor A_i, coordinate c: dd = -e_c, du = 0: dL = -n_c, dn = (n n_c - e_c) / L, dm = (m n_c - u x e_c) / L;
+  //   platform anchor b_i:           dd = du = R e_c:   du x d + u x dd = R e_c x (d - u), d - u = p + R c - A_i.
+  // Evaluated in first-order affine arithmetic with one noise symbol per pose coordinate; the anchors' and the tool
+  // point's ranges are constants, so their effect goes to the radii.
+  Aff pose[6];
+  for (int m = 0; m < 6; ++m) pose[m] = Aff::variable(q[m], m);
+  const Aff sr = sin(pose[3]), cr = cos(pose[3]), sp = sin(pose[4]), cp = cos(pose[4]), sy = sin(pose[5]),
+            cy = cos(pose[5]);
+  const Aff cysp = cy * sp, sysp = sy * sp;
+  const Aff r[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
+                       {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
+                       {-sp, cp * sr, cp * cr}};
+  Aff tool[3];
+  for (int k = 0; k < 3; ++k) tool[k] = r[k][0] * Aff(c_[0]) + r[k][1] * Aff(c_[1]) + r[k][2] * Aff(c_[2]);
+  struct Leg {
+    bool built = false;
+    Aff d[3], u[3], n[3], m[3], inv;
+  };
+  Leg legs[6];
+  auto legOf = [&](int i) -> const Leg& {
+    Leg& leg = legs[i];
+    if (leg.built) return leg;
+    leg.built = true;
+    for (int k = 0; k < 3; ++k) {
+      Aff rb(0.0), ru(0.0);
+      for (int l = 0; l < 3; ++l) {
+        rb += r[k][l] * Aff(b_[i][l]);
+        ru += r[k][l] * Aff(b_[i][l] - c_[l]);
+      }
+      leg.d[k] = pose[k] + rb - Aff(a_[i][k]);
+      leg.u[k] = ru;
+    }
+    leg.inv = reciprocal(sqrt(leg.d[0] * leg.d[0] + leg.d[1] * leg.d[1] + leg.d[2] * leg.d[2]));
+    Aff w[3];
+    cross(leg.u, leg.d, w);
+    for (int k = 0; k < 3; ++k) {
+      leg.n[k] = leg.d[k] * leg.inv;
+      leg.m[k] = w[k] * leg.inv;
+    }
+    return leg;
+  };
+  for (int e = 0; e < out.count; ++e) {
+    GeometryRowDerivative& entry = out.entries[e];
+    const Parameter& par = params_[entry.parameter];
+    if (par.kind == Parameter::Tool) continue;
+    const int i = par.leg, c = par.coord, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+    const Leg& leg = legOf(i);
+    Aff v[6];
+    if (par.kind == Parameter::Base) {
+      // u x e_c: component c is 0, component c1 is u_c2, component c2 is -u_c1.
+      Aff ue[3];
+      ue[c] = Aff(0.0);
+      ue[c1] = leg.u[c2];
+      ue[c2] = -leg.u[c1];
+      for (int k = 0; k < 3; ++k) {
+        v[k] = (k == c ? leg.n[k] * leg.n[c] - Aff(1.0) : leg.n[k] * leg.n[c]) * leg.inv;
+        v[3 + k] = (leg.m[k] * leg.n[c] - ue[k]) * leg.inv;
+      }
+    } else {
+      const Aff column[3] = {r[0][c], r[1][c], r[2][c]};  // R e_c
+      Aff w[3], dw[3];
+      for (int k = 0; k < 3; ++k) w[k] = pose[k] + tool[k] - Aff(a_[i][k]);
+      const Aff dl = leg.n[0] * column[0] + leg.n[1] * column[1] + leg.n[2] * column[2];
+      cross(column, w, dw);
+      for (int k = 0; k < 3; ++k) {
+        v[k] = (column[k] - leg.n[k] * dl) * leg.inv;
+        v[3 + k] = (dw[k] - leg.m[k] * dl) * leg.inv;
+      }
+    }
+    // The entry: the affine form, and its range as the midpoint-radius enclosure (an infinite radius where the form
+    // is not finite, e.g. a leg length range reaching 0: the callers then fall back to other enclosures).
+    bool finite = true;
+    for (int l = 0; l < 6; ++l) {
+      finite = finite && v[l].finite();
+      entry.centre[l] = v[l].centre();
+      entry.radius[l] = v[l].radius();
+      for (int m = 0; m < 6; ++m) entry.slope[l][m] = v[l].coefficient(m);
+      entry.d[l] = interval::MidRad(v[l].centre(), v[l].deviation());
+    }
+    entry.affine = finite;
+    if (!finite)
+      for (int l = 0; l < 6; ++l) entry.d[l] = interval::MidRad(0.0, std::numeric_limits<double>::infinity());
+  }
 }
 
 void GoughPlatform::describe(const Parameter& q, double value, double half) {

@@ -122,18 +122,30 @@ class AffineInverseAction {
   /// Pose slopes T_i at the centre geometry, midpoint and radius: entry by entry the range of C dJ^-1/dt_i over the
   /// box or the second-order Taylor slope (prepare()); either way E(t, g0) - E0 = sum_i T_i (t_i - t0_i).
   std::array<DMat, kMaxDof> dm_, dr_;
-  double devMag_[kMaxDof];               ///< |t_i - t0_i| <=
-  EntryMat gm_, gr_;                     ///< row derivative d_e per geometry entry (over the pose box and geometry box)
-  RowEntryMat cg_;                       ///< (k, e): C_{k, row(e)}
-  EntryMat alpha_;                       ///< (e, j): bound of |d_e . C_{.,j}|
-  EntryMat dcm_, dcr_;                   ///< (e, j): d_e . C_{.,j}, midpoint and radius
-  int param_[kEntries];                  ///< parameter of each entry
-  int row_[kEntries];                    ///< row of J^-1 each entry moves
-  double h_[kMaxGeometryParameters];     ///< |g_p - g0_p| <=
-  double entryH_[kEntries];              ///< h_p of each entry's parameter
-  DMat magE_, magS_, magE0_, absC_, q_;  ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
-  DMat magSP_;                           ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
-  DMat magE2_;                           ///< >= |E| |E|
+  double devMag_[kMaxDof];  ///< |t_i - t0_i| <=
+  EntryMat gm_, gr_;        ///< row derivative d_e per geometry entry (over the pose box and geometry box)
+  /// The same derivatives as affine forms in the pose, where the model gives them for every entry
+  /// (GeometryRowDerivative::affine; then gm_, gr_ are their ranges). Stored per component l (and symbol m), entry by
+  /// entry, so that the loops over the entries vectorise: centres, radii, slopes (coefficient of tau_m in component
+  /// l) and weights |centre| + sum_m |slope| (for the roundings and v's radius).
+  bool affine_ = false;
+  double affCentre_[kMaxDof][kEntries], affRadius_[kMaxDof][kEntries], affWeight_[kMaxDof][kEntries];
+  double affSlope_[kMaxDof][kMaxDof][kEntries];
+  /// With the affine forms (affine_): enclosures of d_e . v_j for every pose of the box and every geometry,
+  /// centre . v +- (sum_m |slope_m . v| + the radii's and roundings' parts), which keep the first-order correlations
+  /// between the components of d_e over the pose box (the interval product d_e . v adds up their ranges). Where it
+  /// is narrower than [dm -+ dr](e, j) (+inf radius: always), it replaces it.
+  void affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr) const;
+  RowEntryMat cg_;                        ///< (k, e): C_{k, row(e)}
+  EntryMat alpha_;                        ///< (e, j): bound of |d_e . C_{.,j}|
+  EntryMat dcm_, dcr_;                    ///< (e, j): d_e . C_{.,j}, midpoint and radius
+  int param_[kEntries];                   ///< parameter of each entry
+  int row_[kEntries];                     ///< row of J^-1 each entry moves
+  double h_[kMaxGeometryParameters];      ///< |g_p - g0_p| <=
+  double entryH_[kEntries];               ///< h_p of each entry's parameter
+  DMat magE_, magS_, magE0_, absC_, q_;   ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
+  DMat magSP_;                            ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
+  DMat magE2_;                            ///< >= |E| |E|
   std::array<DVec, kMaxDof> poseWeight_;  ///< row sums of |D_i| |dev_i| (bisection hints only)
   EntryMat magG_;                         ///< |d_e|
   EntryMat dS_;                           ///< (e, l): >= |d_e^T S|_l, S = E0 + P

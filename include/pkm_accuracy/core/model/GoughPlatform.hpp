@@ -38,6 +38,7 @@ class GoughPlatform final : public RobotModel {
   double geometryParameterCentre(int p) const override;
   IMat inverseJacobianAtGeometryCentre(const IVec& pose) const override;
   void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override;
+  /// Also fills the entries' affine forms in the pose (GeometryRowDerivative::affine) for the anchor coordinates.
   bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
   bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second = true) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
@@ -54,6 +55,9 @@ class GoughPlatform final : public RobotModel {
   void inverseJacobianByDualNumbers(const DualPose& pose, MatrixWithGradient& out) const;
 
  private:
+  /// The affine forms of geometryDerivatives() (anchor entries; tool-point entries keep affine = false).
+  void affineGeometryDerivatives(const IVec& pose, GeometryDerivatives& out) const;
+
   GoughGeometry geometry_;
   bool uncertain_;
   /// Geometry parameter p: which coordinate it is.
