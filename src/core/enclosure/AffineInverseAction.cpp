@@ -77,6 +77,24 @@ void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
   }
 }
 
+/// up(A B) for non-negative A (entries x n, column-major) and B (n x m): the loop runs over A's rows innermost, so it
+/// vectorises (Eigen's lazy product of these dynamic sizes does not); every term is >= 0, so up() covers the roundings.
+template <typename A, typename B>
+A nonNegativeProduct(const A& a, const B& b) {
+  const int rows = static_cast<int>(a.rows()), inner = static_cast<int>(a.cols()), cols = static_cast<int>(b.cols());
+  A out = A::Zero(rows, cols);
+  for (int j = 0; j < cols; ++j) {
+    double* o = &out(0, j);
+    for (int l = 0; l < inner; ++l) {
+      const double x = b(l, j);
+      const double* col = &a(0, l);
+      for (int e = 0; e < rows; ++e) o[e] += col[e] * x;
+    }
+    for (int e = 0; e < rows; ++e) o[e] = up(o[e]);
+  }
+  return out;
+}
+
 /// The box variables are the pose coordinates themselves (pose_i = t_i, as for workspace boxes).
 bool identityPoseMap(const BoxInput& box, int n) {
   if (!box.hasGradient || box.variables != n) return false;
@@ -372,8 +390,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   }
   const DMat sy = upAll(DMat(upAll(absSv) + upAll(DMat(magS_.lazyProduct(spread)))));
   EntryMat gsy;  // >= |d_e| |S y| >= |d_e . (S y)|
-  if (entries_ > 0) gsy = upAll(EntryMat(magG_.lazyProduct(sy)));
-  EntryMat rho = upAll(EntryMat(magG_.lazyProduct(spread)));
+  if (entries_ > 0) gsy = nonNegativeProduct(magG_, sy);
+  EntryMat rho = nonNegativeProduct(magG_, spread);
   EntryMat beta = upAll(EntryMat(magDV + rho));
   // Then one refinement: y - v = -(E0 + P) y - L y with L y = sum_i C_{.,i} (delta_i . y), so
   //   |d_e . (y - v)| <= |d_e| |E0 + P| z + sum_i alpha(e, i) B_i   and   |y| <= |v| + |E0 + P| z + |C| B,
@@ -383,19 +401,19 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   DMat b = rowSums(beta);
   {
     const DMat pz = upAll(DMat(magS_.lazyProduct(z))).cwiseMin(sy);  // >= |(E0 + P) y|, |E0 + P| <= |S|
-    EntryMat dsz = upAll(EntryMat(dS_.lazyProduct(z)));              // >= |d_e . (S y)|
+    EntryMat dsz = nonNegativeProduct(dS_, z);                       // >= |d_e . (S y)|
     if (entries_ > 0) dsz = dsz.cwiseMin(gsy);
-    const EntryMat rho2 = upAll(EntryMat(dsz + upAll(EntryMat(alpha_.lazyProduct(b)))));
+    const EntryMat rho2 = upAll(EntryMat(dsz + nonNegativeProduct(alpha_, b)));
     const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(absC_.lazyProduct(b)))));
     rho = rho.cwiseMin(rho2);
     z = z.cwiseMin(z2);
-    out.sigma = upAll(EntryMat(dS_.lazyProduct(z)));
+    out.sigma = nonNegativeProduct(dS_, z);
     if (entries_ > 0) out.sigma = out.sigma.cwiseMin(gsy);
     beta = upAll(EntryMat(magDV + rho));
     b = rowSums(beta);
   }
   // Gamma = alpha B;  L L Y <= cgh Gamma.
-  const EntryMat gamma = upAll(EntryMat(alpha_.lazyProduct(b)));
+  const EntryMat gamma = nonNegativeProduct(alpha_, b);
   // E^2 Y = S S Y + S L Y + L S Y + L L Y (S: pose part with E0, L: geometry part):
   //   |S S y| <= |S| min(|S| z, sy);   |S L y| = |S C Lambda| <= |S C| B (the dot products d_e . y keep their
   //   cancellations); |L S y| <= cgh |d_e . (S y)| <= cgh min(dS z, |d_e| sy);   |L L y| <= cgh Gamma.
