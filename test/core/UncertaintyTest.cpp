@@ -101,6 +101,16 @@ struct Uncertain {
   }
   /// Worst error of every component at pose q for geometry `values` (double; not certified).
   DVec error(const Geometry& values, const DVec& q) const { return model::GoughPlatform(at(values)).worstErrorAt(q); }
+  /// d J^-1 / d g_p at (q, values) by central differences of the double J^-1 (step 1e-7: rounding error
+  /// ~ 1e-16 / 1e-7 ~ 1e-9 times a small factor; truncation ~ 1e-14).
+  DMat inverseJacobianDerivative(const Geometry& values, int p, const DVec& q) const {
+    const double step = 1e-7;
+    Geometry plus = values, minus = values;
+    plus[p] += step;
+    minus[p] -= step;
+    return (model::GoughPlatform(at(plus)).inverseJacobian(q) - model::GoughPlatform(at(minus)).inverseJacobian(q)) /
+           (2.0 * step);
+  }
 
   Geometry randomVertex(std::mt19937_64& rng) const {
     Geometry g(coords.size());
@@ -395,17 +405,11 @@ TEST(UncertaintyModel, GeometryDerivativesContainFiniteDifferences) {
           }
         }
       }
-      // Values: central differences of the double J^-1 of the concrete geometry (step 1e-7: rounding error
-      // ~ 1e-16 / 1e-7 ~ 1e-9 times a small factor; truncation ~ 1e-14), in the whole-box enclosure at a pose of
-      // the box, and in the point-geometry enclosure at that pose, which must be tight.
-      const double step = 1e-7, tol = 2e-7;
+      // Values: central differences of the double J^-1 of the concrete geometry, in the whole-box enclosure at a
+      // pose of the box, and in the point-geometry enclosure at that pose, which must be tight.
+      const double tol = 2e-7;
       for (int p = 0; p < n; ++p) {
-        Geometry plus = values, minus = values;
-        plus[p] += step;
-        minus[p] -= step;
-        const DMat fd = (model::GoughPlatform(u.at(plus)).inverseJacobian(q) -
-                         model::GoughPlatform(u.at(minus)).inverseJacobian(q)) /
-                        (2.0 * step);
+        const DMat fd = u.inverseJacobianDerivative(values, p, q);
         std::vector<bool> listed(6, false);
         for (const GeometryDerivatives* d : {&whole, &atPoint}) {
           for (int e = 0; e < d->count; ++e) {
@@ -474,14 +478,8 @@ TEST(UncertaintyModel, AffineGeometryDerivativesHoldAtEveryVertex) {
         const Geometry values = sample % 2 == 0 ? u.randomVertex(rng) : u.randomInterior(rng);
         double tau[kMaxDof];
         for (int m = 0; m < kMaxDof; ++m) tau[m] = (q[m] - c[m]) / a[m];
-        const double step = 1e-7;
         for (int p = 0; p < n; ++p) {
-          Geometry plus = values, minus = values;
-          plus[p] += step;
-          minus[p] -= step;
-          const DMat fd = (model::GoughPlatform(u.at(plus)).inverseJacobian(q) -
-                           model::GoughPlatform(u.at(minus)).inverseJacobian(q)) /
-                          (2.0 * step);
+          const DMat fd = u.inverseJacobianDerivative(values, p, q);
           for (int e = 0; e < geo.count; ++e) {
             const GeometryRowDerivative& r = geo.entries[e];
             if (r.parameter != p) continue;
