@@ -22,6 +22,10 @@
 // here is heuristic: every bound is rigorous (rounding included, midpoint-radius double arithmetic with a priori error
 // bounds).
 //
+// The dot products d_p . v (and d_p . C_{.,j}) come from the model's affine forms of d_p in the pose where it gives
+// them (GeometryRowDerivative::affine: the Gough platform's anchor coordinates), which keep the correlations between
+// the components of d_p over the pose box; the interval product of d_p's enclosure with v adds up their ranges.
+//
 // This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
 // O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
 #pragma once
