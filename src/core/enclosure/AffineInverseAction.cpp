@@ -28,7 +28,7 @@ M upAll(const M& m) {
 /// Midpoint and radius (rounded up) of an interval.
 inline void split(const Interval& x, double& m, double& r) {
   m = x.mid();
-  r = up(std::max(interval::rounding::subUp(m, x.lower()), interval::rounding::subUp(x.upper(), m)));
+  r = up(interval::radiusAbout(x, m));
 }
 
 template <typename M>

@@ -42,8 +42,7 @@ void midRad(const IMat& a, DMat& m, DMat& r) {
     for (int j = 0; j < a.cols(); ++j) {
       const double mid = a(i, j).mid();
       m(i, j) = mid;
-      r(i, j) =
-          std::max(interval::rounding::subUp(mid, a(i, j).lower()), interval::rounding::subUp(a(i, j).upper(), mid));
+      r(i, j) = interval::radiusAbout(a(i, j), mid);
     }
   }
 }

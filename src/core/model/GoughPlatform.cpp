@@ -534,7 +534,7 @@ std::unique_ptr<RobotModel> GoughPlatform::restrictGeometry(const std::vector<In
     uncertain = uncertain || !r.isPoint();
     // Keep the plain description in step (point evaluations in double use it): centre and a covering half-width.
     const double mid = r.mid();
-    const double half = std::max(interval::rounding::subUp(mid, r.lower()), interval::rounding::subUp(r.upper(), mid));
+    const double half = interval::radiusAbout(r, mid);
     out->describe(params_[p], mid, half);
   }
   out->uncertain_ = uncertain;

@@ -36,14 +36,14 @@ class AffineForm {
       return;
     }
     c_ = x.mid();
-    r_ = up(std::max(rounding::subUp(c_, x.lower()), rounding::subUp(x.upper(), c_)));
+    r_ = up(radiusAbout(x, c_));
   }
   /// The box variable x in [lower, upper] as symbol m: c + a tau_m with a >= the half-width (so tau in [-1, 1]
   /// covers x; it may cover a little more, which only widens the enclosures).
   static AffineForm variable(const Interval& x, int m) {
     AffineForm f;
     f.c_ = x.mid();
-    f.a_[m] = up(std::max(rounding::subUp(f.c_, x.lower()), rounding::subUp(x.upper(), f.c_)));
+    f.a_[m] = up(radiusAbout(x, f.c_));
     return f;
   }
 
@@ -125,8 +125,8 @@ class AffineForm {
     const double dev = x.deviation();
     f.c_ = value0.mid();
     const double s = slope0.mid();
-    const double sRad = std::max(rounding::subUp(s, slope0.lower()), rounding::subUp(slope0.upper(), s));
-    const double cRad = std::max(rounding::subUp(f.c_, value0.lower()), rounding::subUp(value0.upper(), f.c_));
+    const double sRad = radiusAbout(slope0, s);
+    const double cRad = radiusAbout(value0, f.c_);
     double err = std::abs(f.c_);
     for (int m = 0; m < N; ++m) {
       f.a_[m] = s * x.a_[m];

@@ -212,6 +212,11 @@ inline Interval intersect(const Interval& a, const Interval& b) noexcept {
   return lo <= hi ? Interval::fromBoundsUnchecked(lo, hi) : Interval::empty();
 }
 
+/// The smallest radius about m (rounded up) that covers x: x lies in [m - r, m + r] for r = radiusAbout(x, m).
+inline double radiusAbout(const Interval& x, double m) noexcept {
+  return std::max(rounding::subUp(m, x.lower()), rounding::subUp(x.upper(), m));
+}
+
 // ---- certain / possible comparisons ----------------------------------------------------------------------------
 // All false when an operand is empty (conservative: nothing is certified about an empty enclosure).
 inline bool certainlyLess(const Interval& a, const Interval& b) noexcept {

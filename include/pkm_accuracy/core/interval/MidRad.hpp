@@ -35,7 +35,7 @@ class MidRad {
       return;
     }
     m_ = x.mid();
-    r_ = up(std::max(rounding::subUp(m_, x.lower()), rounding::subUp(x.upper(), m_)));
+    r_ = up(radiusAbout(x, m_));
   }
 
   double mid() const { return m_; }
