@@ -255,8 +255,13 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // alpha(e, j) >= |d_e . C_{.,j}| for every d_e in its enclosure.
   {
     EntryMat m, r;
-    product(gm_, gr_, c_, zero, m, r);
-    affineDots(c_, zero, m, r);
+    if (affine_) {  // (the affine form is the narrower one, as in apply(): the same boxes without the product)
+      m.resize(entries_, n_);
+      r = EntryMat::Constant(entries_, n_, std::numeric_limits<double>::infinity());
+      affineDots(c_, zero, m, r);
+    } else {
+      product(gm_, gr_, c_, zero, m, r);
+    }
     alpha_ = upAll(EntryMat(m.cwiseAbs() + r));
     dcm_ = m;
     dcr_ = r;
