@@ -3,7 +3,6 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
 
@@ -256,8 +255,6 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   {
     EntryMat m, r;
     if (affine_) {  // (the affine form is the narrower one, as in apply(): the same boxes without the product)
-      m.resize(entries_, n_);
-      r = EntryMat::Constant(entries_, n_, std::numeric_limits<double>::infinity());
       affineDots(c_, zero, m, r);
     } else {
       product(gm_, gr_, c_, zero, m, r);
@@ -352,8 +349,6 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   EntryMat dvm, dvr;
   if (affine_) {
     // (The affine form is always the narrower one: measured, the same boxes without the interval product.)
-    dvm.resize(entries_, m);
-    dvr = EntryMat::Constant(entries_, m, std::numeric_limits<double>::infinity());
     affineDots(vm, vr, dvm, dvr);
   } else {
     product(gm_, gr_, vm, vr, dvm, dvr);
@@ -483,13 +478,14 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
 }
 
 void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr) const {
-  if (!affine_) return;
   // d_e . v = centre . vm + sum_m tau_m (slope_m . vm) + (the radii's part) . vm + d_e . (v - vm). The computed dot
   // products are off by at most kGamma times the dot products of the magnitudes, and |d_e . (v - vm)| <= |d_e| vr
   // with |d_e| <= |centre| + sum_m |slope_m| + radius componentwise, so with weight = |centre| + sum_m |slope_m| the
   // radius is
   //   sum_m |slope_m . vm| + weight . (vr + kGamma |vm|) + radius . (|vm| + vr).
   const int m = static_cast<int>(vm.cols());
+  dm.resize(entries_, m);
+  dr.resize(entries_, m);
   double centre[kEntries], rad[kEntries], t[kEntries];
   for (int j = 0; j < m; ++j) {
     double v[kMaxDof], extra[kMaxDof], absV[kMaxDof];
@@ -515,14 +511,9 @@ void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& d
       for (int e = 0; e < entries_; ++e) rad[e] += std::abs(t[e]);
     }
     // (Every term of rad is >= 0 and their sum has relative rounding error < 4 kGamma.)
-    double* mid = &dm(0, j);
-    double* radius = &dr(0, j);
     for (int e = 0; e < entries_; ++e) {
-      const double r = up(up(rad[e]) * (1.0 + 4.0 * kGamma));
-      if (r < radius[e]) {
-        mid[e] = centre[e];
-        radius[e] = r;
-      }
+      dm(e, j) = centre[e];
+      dr(e, j) = up(up(rad[e]) * (1.0 + 4.0 * kGamma));
     }
   }
 }

@@ -135,10 +135,10 @@ class AffineInverseAction {
   bool affine_ = false;
   double affCentre_[kMaxDof][kEntries], affRadius_[kMaxDof][kEntries], affWeight_[kMaxDof][kEntries];
   double affSlope_[kMaxDof][kMaxDof][kEntries];
-  /// With the affine forms (affine_): enclosures of d_e . v_j for every pose of the box and every geometry,
-  /// centre . v +- (sum_m |slope_m . v| + the radii's and roundings' parts), which keep the first-order correlations
-  /// between the components of d_e over the pose box (the interval product d_e . v adds up their ranges). Where it
-  /// is narrower than [dm -+ dr](e, j) (+inf radius: always), it replaces it.
+  /// With the affine forms (affine_ must be true): [dm -+ dr](e, j) encloses d_e . v_j for every pose of the box
+  /// and every geometry, centre . v +- (sum_m |slope_m . v| + the radii's and roundings' parts), which keeps the
+  /// first-order correlations between the components of d_e over the pose box (the interval product [d_e] . v adds
+  /// up their ranges, and was never the narrower one: measured, the same boxes without it).
   void affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr) const;
   RowEntryMat cg_;                        ///< (k, e): C_{k, row(e)}
   EntryMat alpha_;                        ///< (e, j): bound of |d_e . C_{.,j}|
