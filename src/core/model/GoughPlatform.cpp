@@ -400,6 +400,7 @@ void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives
   struct Leg {
     bool built = false;
     Aff d[3], u[3], n[3], m[3], inv;
+    Aff arm[3];  ///< p + R c - A_i (the platform anchors' moment arm)
   };
   Leg legs[6];
   auto legOf = [&](int i) -> const Leg& {
@@ -414,6 +415,7 @@ void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives
       }
       leg.d[k] = pose[k] + rb - Aff(a_[i][k]);
       leg.u[k] = ru;
+      leg.arm[k] = pose[k] + tool[k] - Aff(a_[i][k]);
     }
     leg.inv = reciprocal(sqrt(leg.d[0] * leg.d[0] + leg.d[1] * leg.d[1] + leg.d[2] * leg.d[2]));
     Aff w[3];
@@ -443,10 +445,9 @@ void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives
       }
     } else {
       const Aff column[3] = {r[0][c], r[1][c], r[2][c]};  // R e_c
-      Aff w[3], dw[3];
-      for (int k = 0; k < 3; ++k) w[k] = pose[k] + tool[k] - Aff(a_[i][k]);
+      Aff dw[3];
       const Aff dl = leg.n[0] * column[0] + leg.n[1] * column[1] + leg.n[2] * column[2];
-      cross(column, w, dw);
+      cross(column, leg.arm, dw);
       for (int k = 0; k < 3; ++k) {
         v[k] = (column[k] - leg.n[k] * dl) * leg.inv;
         v[3 + k] = (dw[k] - leg.m[k] * dl) * leg.inv;
