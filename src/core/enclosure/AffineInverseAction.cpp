@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
+#include "pkm_accuracy/core/interval/AffineForm.hpp"
 
 namespace pkm_accuracy {
 namespace enclosure {
@@ -16,6 +17,9 @@ namespace {
 // and a non-negative quantity evaluated in floating point is bounded by up(its computed value).
 constexpr double kGamma = 1e-13;
 constexpr double kUpFactor = 1.0 + 1e-12, kUpFloor = 1e-300;
+/// Refinements of |y - v| through y - v = -E v + E (E y) in apply() (paper workspace, 2 threads: with 2 passes
+/// 54 655 -> 53 797 boxes at +-0.5 mm and 212 259 -> 205 229 at +-1 mm against 1 pass, 56 327 / 223 277 with none).
+constexpr int kSpreadPasses = 2;
 inline double up(double x) { return x * kUpFactor + kUpFloor; }
 
 /// up() of every entry (as one array expression, so that it vectorises: the same operations per entry).
@@ -289,6 +293,42 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     dS_ = upAll(ds).cwiseMin(upAll(EntryMat(magG.lazyProduct(magS))));
     sc_ = upAll(sc).cwiseMin(upAll(DMat(magS.lazyProduct(absC_))));
   }
+  // The bilinear terms (apply(), bilinearCoefficients()): the affine forms' pose symbols must be the box variables
+  // (tau'_i = (t_i - mid_i) / a_i with a_i their scale, tau_i = (t_i - t0_i) / dev_i, t0 = mid: tau'_i = kappa_i
+  // tau_i), and each parameter must have one entry (anchor coordinates: one row each).
+  bilinear_ = affine_ && vars_ == n_ && identityPoseMap(box, n_);
+  if (bilinear_) {
+    int count[kMaxGeometryParameters] = {};
+    for (int e = 0; e < entries_; ++e) bilinear_ = bilinear_ && ++count[param_[e]] == 1;
+  }
+  if (bilinear_) {
+    DMat dr = DMat::Zero(n_, n_), dmc = DMat::Zero(n_, n_);
+    for (int i = 0; i < n_; ++i) {
+      const double a = interval::AffineForm<kMaxDof>::variable(box.pose[i], i).coefficient(i);
+      kappa_[i] = a > 0.0 ? devMag_[i] / a : 0.0;
+      if (!(a > 0.0) && devMag_[i] > 0.0) bilinear_ = false;
+      dc_[i] = dm_[i].lazyProduct(c_);
+      dcAbs_[i] = upAll(DMat(dm_[i].cwiseAbs().lazyProduct(absC_)));
+      dmc += (dc_[i].cwiseAbs() + kGamma * dcAbs_[i]) * devMag_[i];
+      dr += dr_[i] * devMag_[i];
+    }
+    dmc_ = upAll(upAll(dmc));
+    drc_ = upAll(DMat(upAll(dr).lazyProduct(absC_)));
+    e0c_ = upAll(DMat(magE0_.lazyProduct(absC_)));
+  }
+  if (affine_) {
+    // |d_e - c_e| <= sum_m |slope_m| + radius and |c_e|, component by component (apply()).
+    devE_.resize(entries_, n_);
+    absCe_.resize(entries_, n_);
+    for (int e = 0; e < entries_; ++e) {
+      for (int l = 0; l < n_; ++l) {
+        double w = affRadius_[l][e];
+        for (int m = 0; m < n_; ++m) w += std::abs(affSlope_[m][l][e]);
+        devE_(e, l) = up(w);
+        absCe_(e, l) = std::abs(affCentre_[l][e]);
+      }
+    }
+  }
   // q_ ~ (I - |E|)^-1: any approximation; apply() verifies what it gives.
   DMat iMinus = -magE_;
   for (int i = 0; i < n_; ++i) iMinus(i, i) += 1.0;
@@ -327,7 +367,7 @@ bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const {
   return false;
 }
 
-bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
+bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool bilinear) const {
   const int m = static_cast<int>(v.cols());
   DMat vm, vr;
   split(v, vm, vr);
@@ -337,7 +377,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   // Y0 = V - E0 V.
   DMat ym, yr;
   product(e0m_, e0r_, vm, vr, ym, yr);
-  DMat absSv = upAll(DMat(ym.cwiseAbs() + yr));  // >= |E0 V|; below + sum_i |D_i V| |dev_i| >= |S V|
+  DMat absSv = upAll(DMat(ym.cwiseAbs() + yr));  // >= |E0 V|; below + |P V| >= |S V|
   ym = vm - ym;
   yr = upAll(DMat(yr + vr + kGamma * (vm.cwiseAbs() + ym.cwiseAbs())));
 
@@ -346,10 +386,15 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   if (!majorant(absV, z)) return false;
 
   // Geometry: DV = D_G V (first-order terms; also inside L L Y, as y = v + (y - v)).
-  EntryMat dvm, dvr;
+  EntryMat dvm, dvr, dvr0;
+  out.bilinear = bilinear && bilinear_;
   if (affine_) {
     // (The affine form is always the narrower one: measured, the same boxes without the interval product.)
-    affineDots(vm, vr, dvm, dvr);
+    if (out.bilinear) {
+      affineDots(vm, vr, dvm, dvr, &dvr0, &out.sv);
+    } else {
+      affineDots(vm, vr, dvm, dvr);
+    }
   } else {
     product(gm_, gr_, vm, vr, dvm, dvr);
   }
@@ -369,28 +414,72 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
     return rowSum;
   };
   auto chProduct = [&](const EntryMat& x) { return upAll(DMat(absC_.lazyProduct(rowSums(x)))); };
-  // |Y - Y0| = |-(E - E0) V + E^2 Y| <= |E - E0| |V| + |E| |E| Z  (delta), where E - E0 = P + L (P: the pose
-  // part, L: the geometry part) and |L V| <= cgh |DV| keeps the cancellations inside the dot products d_e . v.
-  // (|E| |E| is computed once per box in prepare().)
-  const DMat delta =
-      upAll(DMat(upAll(DMat(magSP_.lazyProduct(absV))) + chProduct(magDV) + upAll(DMat(magE2_.lazyProduct(z)))));
-
-  // beta(e, col) >= |d_e . y| <= |d_e . v| + rho(e, col), rho >= |d_e . (y - v)|, first from
-  // |y - v| <= |E0| |v| + delta.
-  const DMat spread = upAll(DMat(delta + upAll(DMat(magE0_.lazyProduct(absV)))));
-  // sy >= |S y| (S = E0 + P, the pose part of E) through y = v + (y - v): |S y| <= |S v| + |S| |y - v|, where
-  // |S v| <= |E0 v| + sum_i |D_i v| |dev_i| keeps the cancellations inside S v (D_i v: the products the pose
-  // coefficients need anyway) and |y - v| <= spread is mostly well below z >= |y|. The bounds through |S| z below are
-  // valid too: the smaller is kept. (Paper workspace, 2 threads: 5% fewer boxes at +-0.5 mm,
-  // with the hints below 11%, bench/RESULTS.md.)
+  // |Y - Y0| = |-(E - E0) V + E^2 Y| <= |P V| + |L V| + |E| |E| Z  (delta), where E - E0 = P + L (P: the pose
+  // part, L: the geometry part), |L V| <= cgh |DV| keeps the cancellations inside the dot products d_e . v, and
+  // |P V| <= sum_i |D_i V| |dev_i| those inside D_i v (the products the pose coefficients need anyway), which |P| |V|
+  // loses (the smaller of the two is kept). (|E| |E| is computed once per box in prepare().)
   std::array<DMat, kMaxDof> dvm_i, dvr_i;  // D_i V, midpoint and radius
+  DMat pv = DMat::Zero(n_, m);             // >= |P V|
   for (int i = 0; i < vars_; ++i) {
     product(dm_[i], dr_[i], vm, vr, dvm_i[i], dvr_i[i]);
-    absSv += upAll(DMat((dvm_i[i].cwiseAbs() + dvr_i[i]) * devMag_[i]));
+    pv += (dvm_i[i].cwiseAbs() + dvr_i[i]) * devMag_[i];
   }
-  const DMat sy = upAll(DMat(upAll(absSv) + upAll(DMat(magS_.lazyProduct(spread)))));
-  EntryMat gsy;  // >= |d_e| |S y| >= |d_e . (S y)|
+  pv = upAll(pv).cwiseMin(upAll(DMat(magSP_.lazyProduct(absV))));
+  const DMat lv = chProduct(magDV);  // >= |L V|
+  const DMat delta = upAll(DMat(upAll(DMat(pv + lv)) + upAll(DMat(magE2_.lazyProduct(z)))));
+
+  // beta(e, col) >= |d_e . y| <= |d_e . v| + rho(e, col), rho >= |d_e . (y - v)|, first from
+  // |y - v| <= |E0 V| + delta, then kSpreadPasses times through y - v = -E y = -E v + E (E y):
+  //   |y - v| <= |E0 V| + |P V| + |L V| + |E| |y - v|
+  // (each pass maps a valid bound to a valid one; |E| |y - v| is mostly well below |E| |E| z).
+  const DMat e0v = absSv;  // >= |E0 V| (the product above, midpoint-radius)
+  DMat spread = upAll(DMat(delta + e0v));
+  {
+    const DMat first = upAll(DMat(upAll(DMat(e0v + pv)) + lv));
+    for (int pass = 0; pass < kSpreadPasses; ++pass)
+      spread = spread.cwiseMin(upAll(DMat(first + upAll(DMat(magE_.lazyProduct(spread))))));
+  }
+  // sy >= |S y| (S = E0 + P, the pose part of E) through y = v + (y - v): |S y| <= |S v| + |S| |y - v|, where
+  // |S v| <= |E0 v| + |P v| keeps the cancellations inside S v and |y - v| <= spread is mostly well below z >= |y|.
+  // The bounds through |S| z below are valid too: the smaller is kept. (Paper workspace, 2 threads: 5% fewer boxes
+  // at +-0.5 mm, with the hints below 11%, bench/RESULTS.md.)
+  absSv = upAll(DMat(e0v + pv));
+  const DMat sy = upAll(DMat(absSv + upAll(DMat(magS_.lazyProduct(spread)))));
+  EntryMat gsy;  // >= |d_e . (S y)|: |d_e| |S y|, and with the affine forms of d_e (below) the smaller bound
   if (entries_ > 0) gsy = nonNegativeProduct(magG_, sy);
+  // With the affine forms of d_e (centre c_e, |d_e - c_e| <= devE), d_e . (S y) = d_e . (E0 v) + d_e . (P v)
+  // + d_e . (S (y - v)) and d_e . (P v) = (d_e - c_e) . (P v) + sum_i dev_i tau_i c_e . (T_i v), T_i v in
+  // [D_i v -+ dvr_i], so
+  //   |d_e . (S y)| <= sum_i dev_i |c_e . D_i v| + rest,
+  //   rest = devE |P v| + |c_e| sum_i dev_i dvr_i + |d_e| |E0 v| + |d_e^T S| |y - v|,
+  // which keeps the cancellations inside c_e . (D_i v) (first order in the box) where |d_e| |S y| adds up the
+  // components of S y. (The c_e . (D_i v) are computed in floating point: kGamma |c_e| |D_i v| in rest covers that.)
+  EntryMat dotRest;
+  if (affine_) {
+    EntryMat q = EntryMat::Zero(entries_, m);
+    DMat pvr = DMat::Zero(n_, m);
+    for (int i = 0; i < vars_; ++i) {
+      pvr += (dvr_i[i] + kGamma * dvm_i[i].cwiseAbs()) * devMag_[i];
+      EntryMat* keep = out.bilinear ? &out.q1[i] : nullptr;
+      if (keep) keep->resize(entries_, m);
+      for (int j = 0; j < m; ++j) {
+        double dot[kEntries];
+        for (int e = 0; e < entries_; ++e) dot[e] = 0.0;
+        for (int l = 0; l < n_; ++l) {
+          const double x = dvm_i[i](l, j);
+          for (int e = 0; e < entries_; ++e) dot[e] += affCentre_[l][e] * x;
+        }
+        double* col = &q(0, j);
+        for (int e = 0; e < entries_; ++e) col[e] += std::abs(dot[e]) * devMag_[i];
+        if (keep)
+          for (int e = 0; e < entries_; ++e) (*keep)(e, j) = dot[e];
+      }
+    }
+    pvr = upAll(pvr);
+    dotRest = upAll(EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) +
+                             nonNegativeProduct(magG_, e0v) + nonNegativeProduct(dS_, spread)));
+    gsy = gsy.cwiseMin(upAll(EntryMat(upAll(q) + dotRest)));
+  }
   EntryMat rho = nonNegativeProduct(magG_, spread);
   EntryMat beta = upAll(EntryMat(magDV + rho));
   // Then one refinement: y - v = -(E0 + P) y - L y with L y = sum_i C_{.,i} (delta_i . y), so
@@ -439,12 +528,41 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   out.params = params_;
   out.centre = ym;
   DMat radius = upAll(DMat(yr + remainder));
+  DMat poseRadius = DMat::Zero(n_, m);
   for (int i = 0; i < vars_; ++i) {
     const DMat& pm = dvm_i[i];
     const DMat& pr = dvr_i[i];
     out.pose[i] = -pm * devMag_[i];
     out.poseSpread[i] = upAll(DMat(upAll(DMat(pr * devMag_[i])) + kGamma * out.pose[i].cwiseAbs()));
     radius += out.poseSpread[i];
+    poseRadius += out.poseSpread[i];
+  }
+  if (out.bilinear) {
+    // The bilinear form (bilinearCoefficients()): the products tau_i gamma_e of
+    //   -L v     through d_e . v = c_e . v + sum_i (s_{e,i} . v) tau'_i + ...,   and of
+    //   S L y + L S y = [P_m L_c v + L_c P_m v] + S L (y - v) + E0 L v + (P L v - P_m L_c v)
+    //                                          + L S (y - v) + L E0 v + (L P v - L_c P_m v),
+    // P = sum_i T_i dev_i tau_i the pose part of E (T_i in [dm_i -+ dr_i], P_m with the midpoints), L_c v and
+    // L_c P_m v with c_e . v and c_e . (D_i v) at their computed midpoints dvm, q1. The rest, in magnitude:
+    //   |S L (y - v)| <= |S C| B_rho,   |E0 L v| <= |E0| |C| B_v,   |(P - P_m) L v| <= (sum_i dr_i dev_i) |C| B_v,
+    //   |P_m (L v - L_c v)| <= (sum_i |D_i C| dev_i) B_dvr,   (B_x: row sums of h x over the entries of each row)
+    //   |d_e . (S (y - v))| <= dS spread,   |d_e . (E0 v)| <= |d_e| |E0 v|,
+    //   |(d_e - c_e) . (P v)| <= devE |P v|,   |c_e . ((P - P_m) v)| <= |c_e| sum_i dvr_i dev_i
+    // (dotRest above; the last also covers the rounding of q1), times |C| h (chProduct). With the first-order parts'
+    // radii (poseSpread, |C| h dvr0: d_e . v without its slope part) and |S S y| as above.
+    const DMat bRho = rowSums(rho);
+    const DMat bV = rowSums(magDV);
+    const DMat bDvr = rowSums(dvr);
+    const DMat rowPart = upAll(DMat(upAll(DMat(sc_.lazyProduct(bRho))) + upAll(DMat(e0c_.lazyProduct(bV))) +
+                                    upAll(DMat(drc_.lazyProduct(bV))) + upAll(DMat(dmc_.lazyProduct(bDvr)))));
+    const DMat firstOrder = chProduct(upAll(EntryMat(dvr0 + (2.0 * kGamma) * dvm.cwiseAbs())));
+    // (|L L y| is not in it: upperBilinear() bounds it with the geometry terms, from gamma and B.)
+    out.bilinearRadius = upAll(DMat(upAll(DMat(yr + ssy + poseRadius)) + firstOrder + rowPart + chProduct(dotRest)));
+    out.gammaDot = gamma;
+    out.rowB = b;
+  } else {
+    for (int i = 0; i < kMaxDof; ++i) out.q1[i].resize(0, 0), out.sv[i].resize(0, 0);
+    out.bilinearRadius.resize(0, 0);
   }
   // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
   // shrink with the pose box too, so each pose variable's poseSpread also gets a share of them, in proportion to its
@@ -477,7 +595,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out) const {
   return out.radius.allFinite() && out.centre.allFinite();
 }
 
-void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr) const {
+void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr, EntryMat* dr0,
+                                     std::array<EntryMat, kMaxDof>* sv) const {
   // d_e . v = centre . vm + sum_m tau_m (slope_m . vm) + (the radii's part) . vm + d_e . (v - vm). The computed dot
   // products are off by at most kGamma times the dot products of the magnitudes, and |d_e . (v - vm)| <= |d_e| vr
   // with |d_e| <= |centre| + sum_m |slope_m| + radius componentwise, so with weight = |centre| + sum_m |slope_m| the
@@ -486,6 +605,9 @@ void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& d
   const int m = static_cast<int>(vm.cols());
   dm.resize(entries_, m);
   dr.resize(entries_, m);
+  if (dr0) dr0->resize(entries_, m);
+  if (sv)
+    for (int s = 0; s < kMaxDof; ++s) (*sv)[s].resize(entries_, m);
   double centre[kEntries], rad[kEntries], t[kEntries];
   for (int j = 0; j < m; ++j) {
     double v[kMaxDof], extra[kMaxDof], absV[kMaxDof];
@@ -502,6 +624,10 @@ void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& d
         rad[e] += affWeight_[l][e] * xl + affRadius_[l][e] * al;
       }
     }
+    if (dr0) {
+      // (The slope products' roundings are in the weight's part already.)
+      for (int e = 0; e < entries_; ++e) (*dr0)(e, j) = up(up(rad[e]) * (1.0 + 4.0 * kGamma));
+    }
     for (int s = 0; s < kMaxDof; ++s) {
       for (int e = 0; e < entries_; ++e) t[e] = 0.0;
       for (int l = 0; l < kMaxDof; ++l) {
@@ -509,6 +635,8 @@ void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& d
         for (int e = 0; e < entries_; ++e) t[e] += affSlope_[s][l][e] * vl;
       }
       for (int e = 0; e < entries_; ++e) rad[e] += std::abs(t[e]);
+      if (sv)
+        for (int e = 0; e < entries_; ++e) (*sv)[s](e, j) = t[e];
     }
     // (Every term of rad is >= 0 and their sum has relative rounding error < 4 kGamma.)
     for (int e = 0; e < entries_; ++e) {
@@ -642,6 +770,96 @@ double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, con
   }
   positive = up(positive + kGamma * (scale + std::abs(a.centre(k, j))));
   return addUp(addUp(addUp(a.centre(k, j), positive), signedSum), addUp(llm, llr));
+}
+
+void AffineInverseAction::bilinearCoefficients(const AffineMatrix& a, int k, int j,
+                                               double m[kMaxDof][kMaxGeometryParameters], double& rounding) const {
+  // Coefficient of tau_i gamma_p (p the parameter of entry e, r its row, h its half-width):
+  //   dev_i h ((D_i C)(k, r) (c_e . v) + C(k, r) c_e . (D_i v))   (P_m L_c v + L_c P_m v)
+  //   - C(k, r) h kappa_i (s_{e,i} . v)                           (-L v through d_e's slope in tau'_i = kappa_i tau_i)
+  // Errors of the computed values: dc_ within kGamma dcAbs_, the few operations here and kappa_i's division within
+  // kGamma of their terms (c_e . v, c_e . (D_i v) and s . v: in bilinearRadius).
+  for (int i = 0; i < kMaxDof; ++i)
+    for (int p = 0; p < params_; ++p) m[i][p] = 0.0;
+  double scale = 0.0;
+  for (int e = 0; e < entries_; ++e) {
+    const int p = param_[e], r = row_[e];
+    const double h = entryH_[e], ckr = c_(k, r), dv = a.dvm(e, j);
+    for (int i = 0; i < vars_; ++i) {
+      const double dh = devMag_[i] * h;
+      const double t1 = dc_[i](k, r) * dv, t2 = ckr * a.q1[i](e, j), t3 = ckr * h * kappa_[i] * a.sv[i](e, j);
+      m[i][p] = dh * (t1 + t2) - t3;
+      scale += dh * (std::abs(t1) + std::abs(t2) + dcAbs_[i](k, r) * std::abs(dv)) + std::abs(t3);
+    }
+  }
+  rounding = up(2.0 * kGamma * up(scale));
+}
+
+double AffineInverseAction::upperBilinear(const AffineMatrix& a, int k, int j) const {
+  using interval::rounding::addUp;
+  using interval::rounding::subDown;
+  double m[kMaxDof][kMaxGeometryParameters];
+  double rounding = 0.0;
+  bilinearCoefficients(a, k, j, m, rounding);
+  // max over gamma_p of gamma_p u_p = |u_p|, u_p = b_p + sum_i m_ip tau_i in [b_p -+ w_p]: |u_p| <= lambda_p u_p + mu_p
+  // with lambda_p = sign(b_p), mu_p = 0 where the sign is certain, else the secant lambda_p = b_p / w_p and
+  // mu_p = max((1 - lambda_p)(b_p + w_p), (1 + lambda_p)(w_p - b_p)) (|u| - lambda u is convex: largest at the
+  // ends). Then sum_p lambda_p u_p joins the pose terms.
+  double acc[kMaxDof];
+  for (int i = 0; i < a.vars; ++i) acc[i] = a.pose[i](k, j);
+  double constant = 0.0, scale = std::abs(a.centre(k, j));
+  // The geometry part of the remainder, (L L y)_k = sum_p gamma_p C(k, r_p) h_p (d_p . L y) with |d_p . L y| <= Gamma_p
+  // (a.gammaDot), joins u_p too: then sum_p lambda_p C(k, r_p) h_p (d_p . L y) = sum_i Lambda_i A_i with
+  // Lambda_i = sum over row i's entries of h gamma (d . y), |Lambda_i| <= B_i (a.rowB), and
+  // A_i = sum_p lambda_p C(k, r_p) h_p (d_p . C_{.,i}) in [am -+ ar] (d_p . C_{.,i} in [dcm -+ dcr]).
+  double am[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, ar[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  double llScale = 0.0;
+  int entryOf[kMaxGeometryParameters];
+  for (int e = 0; e < entries_; ++e) entryOf[param_[e]] = e;
+  for (int p = 0; p < a.params; ++p) {
+    const double b = a.geometry[j](k, p);
+    const int e = entryOf[p];
+    const double ch = c_(k, row_[e]) * entryH_[e];
+    double w = std::abs(ch) * a.gammaDot(e, j);
+    for (int i = 0; i < a.vars; ++i) w += std::abs(m[i][p]);
+    w = up(w * (1.0 + 8.0 * kGamma));
+    double lambda;
+    if (subDown(b, w) >= 0.0) {
+      lambda = 1.0;
+      constant += b;
+    } else if (addUp(b, w) <= 0.0) {
+      lambda = -1.0;
+      constant -= b;
+    } else {
+      lambda = std::max(-1.0, std::min(1.0, b / w));
+      const double mu = up(std::max((1.0 - lambda) * (b + w), (1.0 + lambda) * (w - b)) * (1.0 + 8.0 * kGamma));
+      constant += lambda * b + mu;
+      scale += mu;
+    }
+    scale += std::abs(b);
+    for (int i = 0; i < a.vars; ++i) {
+      acc[i] += lambda * m[i][p];
+      scale += std::abs(m[i][p]);
+    }
+    const double lch = lambda * ch;
+    for (int i = 0; i < n_; ++i) {
+      const double t = lch * dcm_(e, i);
+      am[i] += t;
+      ar[i] += std::abs(lch) * dcr_(e, i);
+      llScale += std::abs(t) * a.rowB(i, j);
+    }
+  }
+  double ll = 0.0;
+  for (int i = 0; i < n_; ++i) ll += (std::abs(am[i]) + ar[i]) * a.rowB(i, j);
+  ll = up(up(ll) + 4.0 * kGamma * up(llScale));
+  double linear = 0.0;
+  for (int i = 0; i < a.vars; ++i) {
+    linear += std::abs(acc[i]);
+    scale += std::abs(a.pose[i](k, j));
+  }
+  // (Sums of at most 40 terms each: relative rounding below kGamma of the sum of their magnitudes, <= scale.)
+  const double rest = up(up(a.bilinearRadius(k, j) + rounding) + up(linear) + ll + 4.0 * kGamma * up(scale));
+  return addUp(addUp(a.centre(k, j), constant), rest);
 }
 
 Interval AffineInverseAction::AffineMatrix::entry(int k, int j) const {

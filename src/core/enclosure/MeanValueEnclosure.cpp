@@ -148,7 +148,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     while (first + m < columns.size() && columns[first + m].row == k && m < n) ++m;
     IMat batch(n, m);
     for (int q = 0; q < m; ++q) batch.col(q) = columns[first + q].v;
-    if (!act.apply(batch, nv)) return false;
+    if (!act.apply(batch, nv, true)) return false;
     for (int q = 0; q < m; ++q) {
       for (int j = 0; j < m; ++j) unit[j] = j == q ? 1.0 : 0.0;
       AffineInverseAction::combine(nv, k, unit, comb);
@@ -161,8 +161,12 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       const double estimate = comb.centre + first + second;
       atCentre[k] = std::max(atCentre[k], estimate);
       lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
-      if (comb.upper() > upper[k]) {
-        upper[k] = comb.upper();
+      // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target.
+      double columnUpper = comb.upper();
+      if (nv.bilinear && (box.targets.size() != n || (Interval(columnUpper) + rest[k]).upper() > box.targets[k]))
+        columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
+      if (columnUpper > upper[k]) {
+        upper[k] = columnUpper;
         best[k] = comb;
       }
     }

@@ -64,6 +64,17 @@ class AffineInverseAction {
     DMat ll;
     /// The other parts of the remainder's bound in radius: ssy >= |S S y|, cross >= |S L y| + |L S y| (tests).
     DMat ssy, cross;
+    /// The pose x geometry terms kept as products tau_i gamma_p (bilinearCoefficients(), upperBilinear()); only for
+    /// boxes whose variables are the pose coordinates and models with affine geometry derivatives (else false and
+    /// empty): q1[i](e, j) = c_e . (D_i v_j) and sv[i](e, j) = s_{e,i} . v_j (midpoints: c_e the centre of d_e's
+    /// affine form, s_{e,i} its slope in pose coordinate i, D_i the pose slopes), and bilinearRadius(k, j) bounds
+    /// |(N V)_kj - the bilinear form - (L L y)_kj| (the first-order parts' radii and every remainder term but the
+    /// bilinear ones and |L L y|, which upperBilinear() bounds with the geometry terms).
+    bool bilinear = false;
+    std::array<EntryMat, kMaxDof> q1, sv;
+    EntryMat gammaDot;  ///< (e, j) >= |d_e . L y_j| (the L L y part of upperBilinear())
+    DMat rowB;          ///< (i, j) >= |sum over row i's entries of h gamma (d_e . y_j)|
+    DMat bilinearRadius;
     /// Enclosure of entry (k, j).
     Interval entry(int k, int j) const;
   };
@@ -100,7 +111,9 @@ class AffineInverseAction {
 
   /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
   /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).
-  bool apply(const IMat& v, AffineMatrix& out) const;
+  /// With `bilinear` (and where the box allows it): also the bilinear terms (AffineMatrix::bilinear), for
+  /// upperBilinear().
+  bool apply(const IMat& v, AffineMatrix& out, bool bilinear = false) const;
 
   /// Monotonicity in the geometry (the seed paper's section 4.2, for the uncertain parameters). For
   /// phi = (N v)_k, v column j of `a`: d phi / d g_p = -sum over p's entries e of J_{k,row(e)} (d_e . y), y = N v
@@ -114,6 +127,23 @@ class AffineInverseAction {
   /// parameters keep their signs, and so does |L L y|, which is then bounded as the quadratic form it is on the
   /// face instead of term by term in magnitude.
   double upperOnFace(const AffineMatrix& a, int k, int j, const double* s) const;
+
+  /// The pose x geometry terms of entry (k, j) (a.bilinear must be true): with them,
+  ///   (N V)_kj in centre + sum_i pose_i tau_i + sum_p (geometry_p + sum_i m[i][p] tau_i) gamma_p +- bilinearRadius,
+  /// the products tau_i gamma_p being those of S L v + L S v (S the pose part of E, L the geometry part) and of the
+  /// geometry derivatives' own pose slopes in the first-order geometry terms, which the entry's radius bounds in
+  /// magnitude. The coefficients are computed in floating point: `rounding` (>= 0) bounds their error
+  /// (sum over (i, p) of |computed - exact|, to be added to the radius).
+  void bilinearCoefficients(const AffineMatrix& a, int k, int j, double m[kMaxDof][kMaxGeometryParameters],
+                            double& rounding) const;
+
+  /// Upper bound of entry (k, j) over the box and every geometry from its bilinear form (a.bilinear must be true):
+  /// each parameter's term is gamma_p u_p with u_p = geometry_p + sum_i m[i][p] tau_i + C(k, row) h_p (d_p . L y)
+  /// (the last: its share of L L y); its maximum over gamma_p, |u_p|, is bounded by a linear function of u_p (u_p
+  /// itself where its sign is certain, the secant over its range elsewhere), and those linear parts join the pose
+  /// coefficients and the dot products d_p . C, so that they cancel where the signs of the geometry terms are stable
+  /// over the box (what the faces give when every direction is certified, without needing the certificates).
+  double upperBilinear(const AffineMatrix& a, int k, int j) const;
 
  private:
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
@@ -139,7 +169,19 @@ class AffineInverseAction {
   /// and every geometry, centre . v +- (sum_m |slope_m . v| + the radii's and roundings' parts), which keeps the
   /// first-order correlations between the components of d_e over the pose box (the interval product [d_e] . v adds
   /// up their ranges, and was never the narrower one: measured, the same boxes without it).
-  void affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr) const;
+  /// With dr0 (and sv): also the radius without the slope part sum_m |slope_m . v| (the rest covers the roundings of
+  /// the slope products too) and the slope products slope_m . vm themselves (sv[m](e, j)).
+  void affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr, EntryMat* dr0 = nullptr,
+                  std::array<EntryMat, kMaxDof>* sv = nullptr) const;
+  /// The bilinear terms (AffineMatrix::bilinear) can be built for this box: workspace boxes (pose = box variables),
+  /// affine geometry derivatives for every entry, one entry per parameter.
+  bool bilinear_ = false;
+  std::array<DMat, kMaxDof> dc_;          ///< D_i C (midpoints of the pose slopes times C, computed in floating point)
+  std::array<DMat, kMaxDof> dcAbs_;       ///< up(|D_i| |C|): bounds the rounding of dc_
+  double kappa_[kMaxDof];                 ///< dev_i / (the affine forms' scale of tau_i): their tau'_i = kappa_i tau_i
+  DMat e0c_, drc_, dmc_;                  ///< >= |E0| |C|, >= (sum_i dr_i dev_i) |C|, >= sum_i |D_i C| dev_i
+  EntryMat devE_;                         ///< (e, l) >= |d_e - c_e|_l: sum_m |slope| + radius
+  EntryMat absCe_;                        ///< |c_e|
   RowEntryMat cg_;                        ///< (k, e): C_{k, row(e)}
   EntryMat alpha_;                        ///< (e, j): bound of |d_e . C_{.,j}|
   EntryMat dcm_, dcr_;                    ///< (e, j): d_e . C_{.,j}, midpoint and radius
