@@ -772,25 +772,30 @@ double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, con
   return addUp(addUp(addUp(a.centre(k, j), positive), signedSum), addUp(llm, llr));
 }
 
-void AffineInverseAction::bilinearCoefficients(const AffineMatrix& a, int k, int j,
-                                               double m[kMaxDof][kMaxGeometryParameters], double& rounding) const {
+void AffineInverseAction::bilinearEntry(const AffineMatrix& a, int k, int j, int e, double* m, double& scale) const {
   // Coefficient of tau_i gamma_p (p the parameter of entry e, r its row, h its half-width):
   //   dev_i h ((D_i C)(k, r) (c_e . v) + C(k, r) c_e . (D_i v))   (P_m L_c v + L_c P_m v)
   //   - C(k, r) h kappa_i (s_{e,i} . v)                           (-L v through d_e's slope in tau'_i = kappa_i tau_i)
   // Errors of the computed values: dc_ within kGamma dcAbs_, the few operations here and kappa_i's division within
-  // kGamma of their terms (c_e . v, c_e . (D_i v) and s . v: in bilinearRadius).
+  // kGamma of their terms (added to `scale`; c_e . v, c_e . (D_i v) and s . v: in bilinearRadius).
+  const int r = row_[e];
+  const double h = entryH_[e], ckr = c_(k, r), dv = a.dvm(e, j), ch = ckr * h;
+  for (int i = 0; i < vars_; ++i) {
+    const double dh = devMag_[i] * h;
+    const double t1 = dc_[i](k, r) * dv, t2 = ckr * a.q1[i](e, j), t3 = ch * kappa_[i] * a.sv[i](e, j);
+    m[i] = dh * (t1 + t2) - t3;
+    scale += dh * (std::abs(t1) + std::abs(t2) + dcAbs_[i](k, r) * std::abs(dv)) + std::abs(t3);
+  }
+}
+
+void AffineInverseAction::bilinearCoefficients(const AffineMatrix& a, int k, int j,
+                                               double m[kMaxDof][kMaxGeometryParameters], double& rounding) const {
   for (int i = 0; i < kMaxDof; ++i)
     for (int p = 0; p < params_; ++p) m[i][p] = 0.0;
-  double scale = 0.0;
+  double scale = 0.0, mi[kMaxDof];
   for (int e = 0; e < entries_; ++e) {
-    const int p = param_[e], r = row_[e];
-    const double h = entryH_[e], ckr = c_(k, r), dv = a.dvm(e, j);
-    for (int i = 0; i < vars_; ++i) {
-      const double dh = devMag_[i] * h;
-      const double t1 = dc_[i](k, r) * dv, t2 = ckr * a.q1[i](e, j), t3 = ckr * h * kappa_[i] * a.sv[i](e, j);
-      m[i][p] = dh * (t1 + t2) - t3;
-      scale += dh * (std::abs(t1) + std::abs(t2) + dcAbs_[i](k, r) * std::abs(dv)) + std::abs(t3);
-    }
+    bilinearEntry(a, k, j, e, mi, scale);
+    for (int i = 0; i < vars_; ++i) m[i][param_[e]] = mi[i];
   }
   rounding = up(2.0 * kGamma * up(scale));
 }
@@ -798,30 +803,25 @@ void AffineInverseAction::bilinearCoefficients(const AffineMatrix& a, int k, int
 double AffineInverseAction::upperBilinear(const AffineMatrix& a, int k, int j) const {
   using interval::rounding::addUp;
   using interval::rounding::subDown;
-  double m[kMaxDof][kMaxGeometryParameters];
-  double rounding = 0.0;
-  bilinearCoefficients(a, k, j, m, rounding);
-  // max over gamma_p of gamma_p u_p = |u_p|, u_p = b_p + sum_i m_ip tau_i in [b_p -+ w_p]: |u_p| <= lambda_p u_p + mu_p
-  // with lambda_p = sign(b_p), mu_p = 0 where the sign is certain, else the secant lambda_p = b_p / w_p and
-  // mu_p = max((1 - lambda_p)(b_p + w_p), (1 + lambda_p)(w_p - b_p)) (|u| - lambda u is convex: largest at the
-  // ends). Then sum_p lambda_p u_p joins the pose terms.
+  // max over gamma_p of gamma_p u_p = |u_p|, u_p = b_p + sum_i m_ip tau_i + C(k, r_p) h_p (d_p . L y) in [b_p -+ w_p]:
+  // |u_p| <= lambda_p u_p + mu_p with lambda_p = sign(b_p), mu_p = 0 where the sign is certain, else the secant
+  // lambda_p = b_p / w_p and mu_p = max((1 - lambda_p)(b_p + w_p), (1 + lambda_p)(w_p - b_p)) (|u| - lambda u is
+  // convex: largest at the ends). Then sum_p lambda_p u_p joins the pose terms, and the L L y parts
+  // sum_p lambda_p C(k, r_p) h_p (d_p . L y) = sum_i Lambda_i A_i with Lambda_i = sum over row i's entries of
+  // h gamma (d . y), |Lambda_i| <= B_i (a.rowB), A_i = sum_p lambda_p C(k, r_p) h_p (d_p . C_{.,i}) in [am -+ ar]
+  // (d_p . C_{.,i} in [dcm -+ dcr]); |d_p . L y| <= Gamma_p (a.gammaDot). (Each parameter has one entry here.)
   double acc[kMaxDof];
   for (int i = 0; i < a.vars; ++i) acc[i] = a.pose[i](k, j);
-  double constant = 0.0, scale = std::abs(a.centre(k, j));
-  // The geometry part of the remainder, (L L y)_k = sum_p gamma_p C(k, r_p) h_p (d_p . L y) with |d_p . L y| <= Gamma_p
-  // (a.gammaDot), joins u_p too: then sum_p lambda_p C(k, r_p) h_p (d_p . L y) = sum_i Lambda_i A_i with
-  // Lambda_i = sum over row i's entries of h gamma (d . y), |Lambda_i| <= B_i (a.rowB), and
-  // A_i = sum_p lambda_p C(k, r_p) h_p (d_p . C_{.,i}) in [am -+ ar] (d_p . C_{.,i} in [dcm -+ dcr]).
   double am[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, ar[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  double llScale = 0.0;
-  int entryOf[kMaxGeometryParameters];
-  for (int e = 0; e < entries_; ++e) entryOf[param_[e]] = e;
-  for (int p = 0; p < a.params; ++p) {
+  double constant = 0.0, scale = std::abs(a.centre(k, j)), coefficientScale = 0.0, llScale = 0.0;
+  for (int e = 0; e < entries_; ++e) {
+    const int p = param_[e];
     const double b = a.geometry[j](k, p);
-    const int e = entryOf[p];
     const double ch = c_(k, row_[e]) * entryH_[e];
+    double mi[kMaxDof];
+    bilinearEntry(a, k, j, e, mi, coefficientScale);
     double w = std::abs(ch) * a.gammaDot(e, j);
-    for (int i = 0; i < a.vars; ++i) w += std::abs(m[i][p]);
+    for (int i = 0; i < a.vars; ++i) w += std::abs(mi[i]);
     w = up(w * (1.0 + 8.0 * kGamma));
     double lambda;
     if (subDown(b, w) >= 0.0) {
@@ -838,8 +838,8 @@ double AffineInverseAction::upperBilinear(const AffineMatrix& a, int k, int j) c
     }
     scale += std::abs(b);
     for (int i = 0; i < a.vars; ++i) {
-      acc[i] += lambda * m[i][p];
-      scale += std::abs(m[i][p]);
+      acc[i] += lambda * mi[i];
+      scale += std::abs(mi[i]);
     }
     const double lch = lambda * ch;
     for (int i = 0; i < n_; ++i) {
@@ -857,7 +857,9 @@ double AffineInverseAction::upperBilinear(const AffineMatrix& a, int k, int j) c
     linear += std::abs(acc[i]);
     scale += std::abs(a.pose[i](k, j));
   }
-  // (Sums of at most 40 terms each: relative rounding below kGamma of the sum of their magnitudes, <= scale.)
+  // (Sums of at most 40 terms each: relative rounding below kGamma of the sum of their magnitudes, <= scale; the
+  // coefficients' own errors: 2 kGamma coefficientScale, as in bilinearCoefficients().)
+  const double rounding = up(2.0 * kGamma * up(coefficientScale));
   const double rest = up(up(a.bilinearRadius(k, j) + rounding) + up(linear) + ll + 4.0 * kGamma * up(scale));
   return addUp(addUp(a.centre(k, j), constant), rest);
 }

@@ -169,6 +169,9 @@ class AffineInverseAction {
   /// and every geometry, centre . v +- (sum_m |slope_m . v| + the radii's and roundings' parts), which keeps the
   /// first-order correlations between the components of d_e over the pose box (the interval product [d_e] . v adds
   /// up their ranges, and was never the narrower one: measured, the same boxes without it).
+  /// The coefficients m[i] of tau_i gamma_p for entry e (parameter p) of entry (k, j) of `a` (bilinearCoefficients());
+  /// adds the magnitudes their rounding is relative to to `scale`.
+  void bilinearEntry(const AffineMatrix& a, int k, int j, int e, double* m, double& scale) const;
   /// With dr0 (and sv): also the radius without the slope part sum_m |slope_m . v| (the rest covers the roundings of
   /// the slope products too) and the slope products slope_m . vm themselves (sv[m](e, j)).
   void affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr, EntryMat* dr0 = nullptr,
