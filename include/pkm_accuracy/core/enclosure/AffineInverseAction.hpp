@@ -111,9 +111,10 @@ class AffineInverseAction {
 
   /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
   /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).
-  /// With `bilinear` (and where the box allows it): also the bilinear terms (AffineMatrix::bilinear), for
-  /// upperBilinear().
-  bool apply(const IMat& v, AffineMatrix& out, bool bilinear = false) const;
+  /// forBounds: the columns bound f_k (not only the signs of J), so the refinements that pay only there are made too:
+  /// the dot-product bound of |d_e . (S y)| and, where the box allows it, the bilinear terms (AffineMatrix::bilinear,
+  /// for upperBilinear()).
+  bool apply(const IMat& v, AffineMatrix& out, bool forBounds = false) const;
 
   /// Monotonicity in the geometry (the seed paper's section 4.2, for the uncertain parameters). For
   /// phi = (N v)_k, v column j of `a`: d phi / d g_p = -sum over p's entries e of J_{k,row(e)} (d_e . y), y = N v
