@@ -181,6 +181,17 @@ IVec randomSubBox(const IVec& ws, double fraction, std::mt19937_64& rng) {
   return box;
 }
 
+/// Each geometry parameter's centre g0_p and half-width h_p (gamma_p = (g_p - g0_p) / h_p in the affine forms).
+void centresAndHalfWidths(const model::RobotModel& robot, std::vector<double>& gc, std::vector<double>& gh) {
+  const int params = robot.geometryParameterCount();
+  gc.assign(params, 0.0);
+  gh.assign(params, 0.0);
+  for (int p = 0; p < params; ++p) {
+    gc[p] = robot.geometryParameterCentre(p);
+    gh[p] = (robot.geometryParameterRange(p) - Interval(gc[p])).mag();
+  }
+}
+
 DVec randomVertexOf(const IVec& box, std::mt19937_64& rng) {
   DVec q(box.size());
   for (int i = 0; i < box.size(); ++i) q[i] = (rng() & 1u) ? box[i].upper() : box[i].lower();
@@ -839,11 +850,8 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
     const model::GoughPlatform robot(g);
     const int params = robot.geometryParameterCount();
     ASSERT_EQ(params, u.count());
-    std::vector<double> gc(params), gh(params);
-    for (int p = 0; p < params; ++p) {
-      gc[p] = robot.geometryParameterCentre(p);
-      gh[p] = (robot.geometryParameterRange(p) - Interval(gc[p])).mag();
-    }
+    std::vector<double> gc, gh;
+    centresAndHalfWidths(robot, gc, gh);
     for (int trial = 0; trial < 24; ++trial) {
       // Thin poses and boxes of 1/8, 1/32 and 1/128 of the ranges (1/8: where |S y| through y = v + (y - v) counts).
       const double fraction = trial % 4 == 0 ? 0.0 : std::pow(0.5, 1 + trial % 4 * 2);
@@ -1027,11 +1035,8 @@ TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
     const Uncertain u(withUncertainty(h));
     const model::GoughPlatform robot(u.geometry);
     const int params = robot.geometryParameterCount();
-    std::vector<double> gc(params), gh(params);
-    for (int p = 0; p < params; ++p) {
-      gc[p] = robot.geometryParameterCentre(p);
-      gh[p] = (robot.geometryParameterRange(p) - Interval(gc[p])).mag();
-    }
+    std::vector<double> gc, gh;
+    centresAndHalfWidths(robot, gc, gh);
     for (int trial = 0; trial < 16; ++trial) {
       const double fraction = std::pow(0.5, 3 + trial % 4);  // 1/8 .. 1/64
       IVec box = randomSubBox(ws.initialBox(), fraction, rng);
@@ -1175,11 +1180,8 @@ TEST(UncertaintyAffineInverseAction, BilinearCoefficientsAreTheMixedDerivatives)
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const int params = robot.geometryParameterCount();
-  std::vector<double> gc(params), gh(params);
-  for (int p = 0; p < params; ++p) {
-    gc[p] = robot.geometryParameterCentre(p);
-    gh[p] = (robot.geometryParameterRange(p) - Interval(gc[p])).mag();
-  }
+  std::vector<double> gc, gh;
+  centresAndHalfWidths(robot, gc, gh);
   std::mt19937_64 rng(1313);
   double worst = 0.0;
   for (int trial = 0; trial < 2; ++trial) {
