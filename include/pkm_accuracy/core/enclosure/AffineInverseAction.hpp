@@ -26,6 +26,11 @@
 // them (GeometryRowDerivative::affine: the Gough platform's anchor coordinates), which keep the correlations between
 // the components of d_p over the pose box; the interval product of d_p's enclosure with v adds up their ranges.
 //
+// For the columns that bound the error (apply(v, a, true)), the products tau_i gamma_p of the pose and geometry
+// deviations are also kept as one coefficient each (their three sources nearly cancel), and upperBilinear() bounds a
+// column through the sign of each parameter's term over the box (docs/uncertainty.md, "Bilinear pose x geometry
+// terms").
+//
 // This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
 // O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
 #pragma once
@@ -64,10 +69,11 @@ class AffineInverseAction {
     DMat ll;
     /// The other parts of the remainder's bound in radius: ssy >= |S S y|, cross >= |S L y| + |L S y| (tests).
     DMat ssy, cross;
-    /// The pose x geometry terms kept as products tau_i gamma_p (bilinearCoefficients(), upperBilinear()); only for
-    /// boxes whose variables are the pose coordinates and models with affine geometry derivatives (else false and
-    /// empty): q1[i](e, j) = c_e . (D_i v_j) and sv[i](e, j) = s_{e,i} . v_j (midpoints: c_e the centre of d_e's
-    /// affine form, s_{e,i} its slope in pose coordinate i, D_i the pose slopes), and bilinearRadius(k, j) bounds
+    /// The pose x geometry terms kept as products tau_i gamma_p (bilinearCoefficients(), upperBilinear()); only from
+    /// apply(v, a, true), for boxes whose variables are the pose coordinates and models with affine geometry
+    /// derivatives (else false and empty): q1[i](e, j) = c_e . (D_i v_j) and sv[i](e, j) = s_{e,i} . v_j (midpoints:
+    /// c_e the centre of d_e's affine form, s_{e,i} its slope in pose coordinate i, D_i the pose slopes), and
+    /// bilinearRadius(k, j) bounds
     /// |(N V)_kj - the bilinear form - (L L y)_kj| (the first-order parts' radii and every remainder term but the
     /// bilinear ones and |L L y|, which upperBilinear() bounds with the geometry terms).
     bool bilinear = false;
@@ -166,13 +172,13 @@ class AffineInverseAction {
   bool affine_ = false;
   double affCentre_[kMaxDof][kEntries], affRadius_[kMaxDof][kEntries], affWeight_[kMaxDof][kEntries];
   double affSlope_[kMaxDof][kMaxDof][kEntries];
+  /// The coefficients m[i] of tau_i gamma_p for entry e (parameter p) of entry (k, j) of `a` (bilinearCoefficients());
+  /// adds the magnitudes their rounding is relative to to `scale`.
+  void bilinearEntry(const AffineMatrix& a, int k, int j, int e, double* m, double& scale) const;
   /// With the affine forms (affine_ must be true): [dm -+ dr](e, j) encloses d_e . v_j for every pose of the box
   /// and every geometry, centre . v +- (sum_m |slope_m . v| + the radii's and roundings' parts), which keeps the
   /// first-order correlations between the components of d_e over the pose box (the interval product [d_e] . v adds
   /// up their ranges, and was never the narrower one: measured, the same boxes without it).
-  /// The coefficients m[i] of tau_i gamma_p for entry e (parameter p) of entry (k, j) of `a` (bilinearCoefficients());
-  /// adds the magnitudes their rounding is relative to to `scale`.
-  void bilinearEntry(const AffineMatrix& a, int k, int j, int e, double* m, double& scale) const;
   /// With dr0 (and sv): also the radius without the slope part sum_m |slope_m . v| (the rest covers the roundings of
   /// the slope products too) and the slope products slope_m . vm themselves (sv[m](e, j)).
   void affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr, EntryMat* dr0 = nullptr,
