@@ -285,7 +285,8 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     for (int i = 0; i < vars_; ++i) {
       w += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
       ds += gm_.lazyProduct(dm_[i]).cwiseAbs() * devMag_[i];
-      sc += dm_[i].lazyProduct(c_).cwiseAbs() * devMag_[i];
+      dc_[i] = dm_[i].lazyProduct(c_);  // (also for the bilinear terms below)
+      sc += dc_[i].cwiseAbs() * devMag_[i];
     }
     w = upAll(w);
     ds += gm_.cwiseAbs().lazyProduct(w) + gr_.lazyProduct(magS);
@@ -307,7 +308,6 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       const double a = interval::AffineForm<kMaxDof>::variable(box.pose[i], i).coefficient(i);
       kappa_[i] = a > 0.0 ? devMag_[i] / a : 0.0;
       if (!(a > 0.0) && devMag_[i] > 0.0) bilinear_ = false;
-      dc_[i] = dm_[i].lazyProduct(c_);
       dcAbs_[i] = upAll(DMat(dm_[i].cwiseAbs().lazyProduct(absC_)));
       dmc += (dc_[i].cwiseAbs() + kGamma * dcAbs_[i]) * devMag_[i];
       dr += dr_[i] * devMag_[i];
@@ -425,7 +425,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     pv += (dvm_i[i].cwiseAbs() + dvr_i[i]) * devMag_[i];
   }
   pv = upAll(pv).cwiseMin(upAll(DMat(magSP_.lazyProduct(absV))));
-  const DMat lv = chProduct(magDV);  // >= |L V|
+  const DMat bV = rowSums(magDV);                      // B_v: row sums of h |d_e . v|
+  const DMat lv = upAll(DMat(absC_.lazyProduct(bV)));  // >= |L V| (chProduct(magDV))
   const DMat delta = upAll(DMat(upAll(DMat(pv + lv)) + upAll(DMat(magE2_.lazyProduct(z)))));
 
   // beta(e, col) >= |d_e . y| <= |d_e . v| + rho(e, col), rho >= |d_e . (y - v)|, first from
@@ -449,7 +450,6 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     // And through S (y - v) = -S E0 v - S P v - S L v + S E (E y) with |S L v| = |S C Lambda_v| <= |S C| B_v (the
     // dot products d_e . v and S C keep their cancellations, which |S| |L v| loses; paper, 2 threads: 46 895 ->
     // 46 133 boxes at +-0.5 mm, 158 999 -> 154 345 at +-1 mm).
-    const DMat bV = rowSums(magDV);
     const DMat sLv = upAll(DMat(sc_.lazyProduct(bV)));
     const DMat other = upAll(DMat(upAll(DMat(e0v + pv)) + upAll(DMat(magE_.lazyProduct(spread)))));
     sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(magS_.lazyProduct(other))) + sLv)))));
@@ -563,7 +563,6 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     // (dotRest above; the last also covers the rounding of q1), times |C| h (chProduct). With the first-order parts'
     // radii (poseSpread, |C| h dvr0: d_e . v without its slope part) and |S S y| as above.
     const DMat bRho = rowSums(rho);
-    const DMat bV = rowSums(magDV);
     const DMat bDvr = rowSums(dvr);
     const DMat rowPart = upAll(DMat(upAll(DMat(sc_.lazyProduct(bRho))) + upAll(DMat(e0c_.lazyProduct(bV))) +
                                     upAll(DMat(drc_.lazyProduct(bV))) + upAll(DMat(dmc_.lazyProduct(bDvr)))));
