@@ -573,6 +573,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     out.rowB = b;
   } else {
     for (int i = 0; i < kMaxDof; ++i) out.q1[i].resize(0, 0), out.sv[i].resize(0, 0);
+    out.gammaDot.resize(0, 0);
+    out.rowB.resize(0, 0);
     out.bilinearRadius.resize(0, 0);
   }
   // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
