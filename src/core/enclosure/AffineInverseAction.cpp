@@ -331,12 +331,28 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   for (int i = 0; i < n_; ++i) iMinus(i, i) += 1.0;
   Eigen::PartialPivLU<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>> lu(iMinus);
   q_ = lu.inverse();
+  // R(alpha) (i, j) = sum over the entries e of row i of h_p(e) alpha(e, j), and an approximation of its
+  // (I - R(alpha))^-1 (apply(): the fixed point of the refinement of B).
+  alphaRowsOk_ = false;
+  if (entries_ > 0) {
+    alphaRows_ = DMat::Zero(n_, n_);
+    for (int e = 0; e < entries_; ++e) alphaRows_.row(row_[e]) += entryH_[e] * alpha_.row(e);
+    alphaRows_ = upAll(alphaRows_);
+    DMat iMinusA = -alphaRows_;
+    for (int i = 0; i < n_; ++i) iMinusA(i, i) += 1.0;
+    alphaRowsInv_ =
+        Eigen::PartialPivLU<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>>(iMinusA)
+            .inverse();
+    alphaRowsOk_ = alphaRows_.allFinite() && alphaRowsInv_.allFinite();
+  }
   return q_.allFinite() && magE_.allFinite() && alpha_.allFinite() && magL.allFinite();
 }
 
-bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const {
-  // If (I - |E|) z >= w > 0 with w >= rhs then |E| z < z, so rho(|E|) < 1, (I - |E|)^-1 >= 0 and every x with
-  // |x| <= rhs + |E| |x| satisfies |x| <= (I - |E|)^-1 rhs <= z.
+bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const { return fixedPoint(magE_, q_, rhs, z); }
+
+bool AffineInverseAction::fixedPoint(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z) const {
+  // If (I - A) z >= w > 0 with w >= rhs then A z < z, so rho(A) < 1, (I - A)^-1 >= 0 and every x >= 0 with
+  // x <= rhs + A x satisfies x <= (I - A)^-1 rhs <= z.
   const int m = static_cast<int>(rhs.cols());
   DMat w = rhs;
   for (int j = 0; j < m; ++j) {
@@ -345,11 +361,11 @@ bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const {
     // next to the others (their slack would drown in the rounding margins); it only loosens z by 1e-9 of rhs max.
     for (int l = 0; l < n_; ++l) w(l, j) += 1e-300 + 1e-9 * largest;
   }
-  z = q_.lazyProduct(w);
+  z = approx.lazyProduct(w);
   for (int j = 0; j < m; ++j)
     for (int l = 0; l < n_; ++l) z(l, j) = up(std::max(z(l, j), w(l, j))) * (1.0 + 1e-9);
   for (int attempt = 0; attempt < 4; ++attempt) {
-    const DMat next = upAll(DMat(w + upAll(DMat(magE_.lazyProduct(z)))));
+    const DMat next = upAll(DMat(w + upAll(DMat(a.lazyProduct(z)))));
     bool ok = true;
     for (int j = 0; j < m; ++j) {
       bool column = true;
@@ -503,6 +519,14 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     const DMat pz = upAll(DMat(magS_.lazyProduct(z))).cwiseMin(sy);  // >= |(E0 + P) y|, |E0 + P| <= |S|
     EntryMat dsz = nonNegativeProduct(dS_, z);                       // >= |d_e . (S y)|
     if (entries_ > 0) dsz = dsz.cwiseMin(gsy);
+    // The same refinement to its fixed point: with rho <= dsz + alpha B, B = R(|d_e . v| + rho) satisfies
+    // B <= R(|DV|) + R(dsz) + R(alpha) B (R: the row sums of h x, linear), so B <= (I - R(alpha))^-1 (...), verified
+    // (R(alpha) is n x n: cheap); the smaller bound is kept.
+    if (entries_ > 0 && alphaRowsOk_) {
+      DMat fixed;
+      const DMat rhs = upAll(DMat(bV + rowSums(dsz)));
+      if (fixedPoint(alphaRows_, alphaRowsInv_, rhs, fixed)) b = b.cwiseMin(fixed);
+    }
     const EntryMat rho2 = upAll(EntryMat(dsz + nonNegativeProduct(alpha_, b)));
     const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(absC_.lazyProduct(b)))));
     rho = rho.cwiseMin(rho2);

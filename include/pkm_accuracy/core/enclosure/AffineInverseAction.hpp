@@ -156,6 +156,9 @@ class AffineInverseAction {
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
   /// @return false if the verification fails (the Neumann majorant does not converge).
   bool majorant(const DMat& rhs, DMat& z) const;
+  /// z >= (I - a)^-1 rhs column by column for a >= 0 (n x n), verified (approx: any approximation of (I - a)^-1).
+  /// @return false if the verification fails.
+  bool fixedPoint(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z) const;
 
   int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
   DMat c_;
@@ -206,6 +209,8 @@ class AffineInverseAction {
   EntryMat magG_;                         ///< |d_e|
   EntryMat dS_;                           ///< (e, l): >= |d_e^T S|_l, S = E0 + P
   DMat sc_;                               ///< >= |S C|
+  DMat alphaRows_, alphaRowsInv_;         ///< R(alpha): row sums of h alpha per row of J^-1; ~(I - R(alpha))^-1
+  bool alphaRowsOk_ = false;
 };
 
 }  // namespace enclosure
