@@ -1018,6 +1018,80 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
   std::cout << "[ info     ] |S L y + L S y| up to " << worstCross << " of its bound\n";
 }
 
+TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
+  // AffineMatrix::rho(e, j) >= |d_e . (y_j - v_j)| for every pose and geometry of the box, y = N v: the bound that
+  // |y - v| and the dot products d_e . (y - v) share through their joint fixed point (apply()) and that the
+  // refinements of B, the monotone directions and the face bounds build on. d_e by central differences of the double
+  // J^-1 of the concrete geometry (error ~ 1e-9 of |d_e|), y - v in MPFR; both apply() variants (J's signs and the
+  // columns that bound f_k). At +-1 mm the largest ratio must reach a good part of the bound, so that a bound too
+  // small by a factor would fail.
+  const io::RobotFile rf = test::ref6File();
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  std::mt19937_64 rng(911);
+  int checked = 0;
+  double worst = 0.0;  // the largest |d_e . (y - v)| / rho at +-1 mm
+  for (const double h : {0.0005, 0.001}) {
+    const Uncertain u(withUncertainty(h));
+    const model::GoughPlatform robot(u.geometry);
+    for (int trial = 0; trial < 12; ++trial) {
+      const double fraction = trial % 3 == 0 ? 1.0 / 8.0 : (trial % 3 == 1 ? 1.0 / 32.0 : 0.0);
+      const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
+      enclosure::BoxInput in;
+      ws.poseView(box, true, in);
+      enclosure::AffineInverseAction act;
+      if (!act.prepare(robot, in)) continue;
+      GeometryDerivatives geo;
+      ASSERT_TRUE(robot.geometryDerivatives(in.pose, geo));
+      const DMat& c = act.preconditioner();
+      // V: the preconditioner's columns times the sensor signs of a random row, and random columns.
+      IMat v(6, 3);
+      for (int i = 0; i < 6; ++i) {
+        v(i, 0) = Interval(c(i, 0) - c(i, 1) + c(i, 2) - c(i, 3) + c(i, 4) - c(i, 5));
+        v(i, 1) = Interval(std::uniform_real_distribution<double>(-1.0, 1.0)(rng));
+        v(i, 2) = Interval(c(i, trial % 6));
+      }
+      for (const bool forBounds : {false, true}) {
+        enclosure::AffineInverseAction::AffineMatrix a;
+        ASSERT_TRUE(act.apply(v, a, forBounds));
+        ASSERT_EQ(a.rho.rows(), geo.count);
+        for (int s = 0; s < 4; ++s) {
+          const DVec t = s % 2 ? randomVertexOf(box, rng) : test::randomPoint(box, rng);
+          const Geometry gv = s < 2 ? u.randomVertex(rng) : u.randomInterior(rng);
+          const MpMat jinv = mpInverseJacobian(u.at(gv), t);
+          MpMat cj(6, std::vector<Mp>(6, Mp(0.0))), vp(6, std::vector<Mp>(3, Mp(0.0)));
+          for (int i = 0; i < 6; ++i) {
+            for (int j = 0; j < 6; ++j)
+              for (int l = 0; l < 6; ++l) cj[i][j] = cj[i][j] + Mp(c(i, l)) * jinv[l][j];
+            for (int j = 0; j < 3; ++j) vp[i][j] = Mp(v(i, j).mid());
+          }
+          const MpMat nv = mpSolve(cj, vp);
+          for (int e = 0; e < geo.count; ++e) {
+            const GeometryRowDerivative& r = geo.entries[e];
+            const DMat fd = u.inverseJacobianDerivative(gv, r.parameter, t);
+            for (int j = 0; j < 3; ++j) {
+              double dot = 0.0, mag = 0.0;
+              for (int l = 0; l < 6; ++l) {
+                const double yv = toDouble(nv[l][j] - vp[l][j]);
+                dot += fd(r.row, l) * yv;
+                mag += std::abs(fd(r.row, l) * yv);
+              }
+              const double slack = 1e-6 * mag + 1e-300;  // the central differences' error, with a margin
+              ASSERT_LE(std::abs(dot), a.rho(e, j) + slack)
+                  << robot.geometryParameterName(r.parameter) << " column " << j << " at " << where(t) << ", h " << h
+                  << ", box fraction " << fraction << (forBounds ? ", for bounds" : ", for signs");
+              if (h == 0.001 && a.rho(e, j) > 1e3 * slack) worst = std::max(worst, std::abs(dot) / a.rho(e, j));
+              ++checked;
+            }
+          }
+        }
+      }
+    }
+  }
+  std::cout << "[ info     ] largest |d_e . (y - v)| / rho at +-1 mm: " << worst << " (" << checked << " checks)\n";
+  EXPECT_GT(checked, 10000);
+  EXPECT_GT(worst, 0.3);
+}
+
 TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
   // The bilinear form of apply(v, a, true) (bilinearCoefficients(), upperBilinear()) at vertices and interior points
   // of pose boxes and of the geometry box, against N V and L L y computed in MPFR:

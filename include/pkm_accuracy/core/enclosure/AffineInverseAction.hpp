@@ -156,9 +156,6 @@ class AffineInverseAction {
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
   /// @return false if the verification fails (the Neumann majorant does not converge).
   bool majorant(const DMat& rhs, DMat& z) const;
-  /// z >= (I - a)^-1 rhs column by column for a >= 0 (n x n), verified (approx: any approximation of (I - a)^-1).
-  /// @return false if the verification fails.
-  bool fixedPoint(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z) const;
 
   int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
   DMat c_;
@@ -211,6 +208,10 @@ class AffineInverseAction {
   DMat sc_;                               ///< >= |S C|
   DMat alphaRows_, alphaRowsInv_;         ///< R(alpha): row sums of h alpha per row of J^-1; ~(I - R(alpha))^-1
   bool alphaRowsOk_ = false;
+  using JSquare = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxDof, 2 * kMaxDof>;
+  using JMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxDof, kMaxDof>;
+  JSquare joint_, jointInv_;  ///< [[|S|, |C|], [R(dS), R(alpha)]] and ~(I - it)^-1 (apply(): |y - v| and rho jointly)
+  bool jointOk_ = false;
 };
 
 }  // namespace enclosure
