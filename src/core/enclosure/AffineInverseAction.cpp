@@ -82,7 +82,27 @@ void product(const A& am, const A& ar, const B& bm, const B& br, R& m, R& r) {
 template <typename A, typename B>
 A nonNegativeProduct(const A& a, const B& b) {
   const int rows = static_cast<int>(a.rows()), inner = static_cast<int>(a.cols()), cols = static_cast<int>(b.cols());
-  A out = A::Zero(rows, cols);
+  A out(rows, cols);
+  if (inner == 6) {
+    // The common case in one pass per column (the same sums in the same order as below, so the same results).
+    for (int j = 0; j < cols; ++j) {
+      double* __restrict o = &out(0, j);
+      const double x0 = b(0, j), x1 = b(1, j), x2 = b(2, j), x3 = b(3, j), x4 = b(4, j), x5 = b(5, j);
+      const double* __restrict c0 = &a(0, 0), * __restrict c1 = &a(0, 1), * __restrict c2 = &a(0, 2), * __restrict c3 = &a(0, 3), * __restrict c4 = &a(0, 4), * __restrict c5 = &a(0, 5);
+      for (int e = 0; e < rows; ++e) {
+        double s = 0.0;
+        s += c0[e] * x0;
+        s += c1[e] * x1;
+        s += c2[e] * x2;
+        s += c3[e] * x3;
+        s += c4[e] * x4;
+        s += c5[e] * x5;
+        o[e] = up(s);
+      }
+    }
+    return out;
+  }
+  out.setZero();
   for (int j = 0; j < cols; ++j) {
     double* o = &out(0, j);
     for (int l = 0; l < inner; ++l) {
@@ -323,6 +343,17 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     sc += w.lazyProduct(absC_);
     dS_ = upAll(ds).cwiseMin(upAll(EntryMat(magG.lazyProduct(magS))));
     sc_ = upAll(sc).cwiseMin(upAll(DMat(magS.lazyProduct(absC_))));
+    // |d_e^T S C| likewise (the midpoints' products gm (E0m C), gm (D_i C) keep their cancellations; their roundings:
+    // kGamma |gm| sc).
+    if (entries_ > 0) {
+      const DMat e0c = e0m_.lazyProduct(c_);
+      EntryMat dsc = gm_.lazyProduct(e0c).cwiseAbs();
+      for (int i = 0; i < vars_; ++i) dsc += gm_.lazyProduct(dc_[i]).cwiseAbs() * devMag_[i];
+      const EntryMat absGm = gm_.cwiseAbs();
+      dsc += absGm.lazyProduct(upAll(DMat(w.lazyProduct(absC_)))) + gr_.lazyProduct(sc_) +
+             kGamma * absGm.lazyProduct(upAll(sc));
+      dSC_ = upAll(dsc).cwiseMin(upAll(EntryMat(dS_.lazyProduct(absC_))));
+    }
   }
   // The bilinear terms (apply(), bilinearCoefficients()): the affine forms' pose symbols must be the box variables
   // (tau'_i = (t_i - mid_i) / a_i with a_i their scale, tau_i = (t_i - t0_i) / dev_i, t0 = mid: tau'_i = kappa_i
@@ -503,6 +534,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   }
   DMat spread = upAll(DMat(delta + e0v));
   EntryMat rhoJoint;  // >= |d_e . (y - v)| from the joint system below (empty if not solved)
+  DMat bRhoJoint;     // >= R(|d_e . (y - v)|) from it
   {
     const DMat first = upAll(DMat(upAll(DMat(e0v + pv)) + lv));
     DMat fp;
@@ -519,8 +551,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
       rhs.bottomRows(n_) = rowSums(rho1);
       if (fixedPoint(joint_, jointInv_, rhs, x)) {
         spread = spread.cwiseMin(DMat(x.topRows(n_)));
-        const DMat bRho = x.bottomRows(n_);
-        rhoJoint = upAll(EntryMat(rho1 + nonNegativeProduct(dS_, spread) + nonNegativeProduct(alpha_, bRho)));
+        bRhoJoint = x.bottomRows(n_);
+        rhoJoint = upAll(EntryMat(rho1 + nonNegativeProduct(dS_, spread) + nonNegativeProduct(alpha_, bRhoJoint)));
       }
     }
   }
@@ -537,6 +569,12 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     const DMat sLv = upAll(DMat(sc_.lazyProduct(bV)));
     const DMat other = upAll(DMat(upAll(DMat(e0v + pv)) + upAll(DMat(magE_.lazyProduct(spread)))));
     sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(magS_.lazyProduct(other))) + sLv)))));
+    if (bRhoJoint.rows() == n_) {
+      // S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)), |S L x| = |S C Lambda_x| <= |S C| R(|d_e . x|).
+      const DMat inner = upAll(DMat(absSv + upAll(DMat(magS_.lazyProduct(spread)))));
+      const DMat sl = upAll(DMat(sc_.lazyProduct(upAll(DMat(bV + bRhoJoint)))));
+      sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(magS_.lazyProduct(inner))) + sl)))));
+    }
   }
   EntryMat gsy;  // >= |d_e . (S y)|: |d_e| |S y|, and with the affine forms of d_e (below) the smaller bound
   if (entries_ > 0) gsy = nonNegativeProduct(magG_, sy);
@@ -552,8 +590,15 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // 158 999, the same time within the noise).
   EntryMat dotRest;
   if (affine_ && forBounds) {
+    // |d_e . S (y - v)| <= dS spread, or through S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)):
+    // dS (|E0 v| + |P v| + |S| spread) + |d_e^T S C| R(|d_e . v| + rho).
+    EntryMat dsSpread = nonNegativeProduct(dS_, spread);
+    if (bRhoJoint.rows() == n_)
+      dsSpread = dsSpread.cwiseMin(
+          upAll(EntryMat(nonNegativeProduct(dS_, DMat(upAll(DMat(absSv + upAll(DMat(magS_.lazyProduct(spread))))))) +
+                         nonNegativeProduct(dSC_, DMat(upAll(DMat(bV + bRhoJoint)))))));
     dotRest = upAll(EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) +
-                             nonNegativeProduct(magG_, e0v) + nonNegativeProduct(dS_, spread)));
+                             nonNegativeProduct(magG_, e0v) + dsSpread));
     gsy = gsy.cwiseMin(upAll(EntryMat(upAll(q) + dotRest)));
   }
   EntryMat rho = nonNegativeProduct(magG_, spread);
@@ -643,10 +688,12 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     // (|L L y| is not in it: upperBilinear() bounds it with the geometry terms, from gamma and B.)
     out.bilinearRadius = upAll(DMat(upAll(DMat(yr + ssy + poseRadius)) + firstOrder + rowPart + chProduct(dotRest)));
     out.gammaDot = gamma;
+    out.dotRest = dotRest;
     out.rowB = b;
   } else {
     for (int i = 0; i < kMaxDof; ++i) out.q1[i].resize(0, 0), out.sv[i].resize(0, 0);
     out.gammaDot.resize(0, 0);
+    out.dotRest.resize(0, 0);
     out.rowB.resize(0, 0);
     out.bilinearRadius.resize(0, 0);
   }

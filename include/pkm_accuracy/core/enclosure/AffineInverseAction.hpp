@@ -79,7 +79,10 @@ class AffineInverseAction {
     bool bilinear = false;
     std::array<EntryMat, kMaxDof> q1, sv;
     EntryMat gammaDot;  ///< (e, j) >= |d_e . L y_j| (the L L y part of upperBilinear())
-    DMat rowB;          ///< (i, j) >= |sum over row i's entries of h gamma (d_e . y_j)|
+    /// (e, j) >= |d_e . (S y_j) - sum_i (t_i - t0_i) q1[i](e, j)|, S = E0 + P the pose part of E (in bilinearRadius
+    /// through L S y; tests)
+    EntryMat dotRest;
+    DMat rowB;  ///< (i, j) >= |sum over row i's entries of h gamma (d_e . y_j)|
     DMat bilinearRadius;
     /// Enclosure of entry (k, j).
     Interval entry(int k, int j) const;
@@ -206,6 +209,7 @@ class AffineInverseAction {
   EntryMat magG_;                         ///< |d_e|
   EntryMat dS_;                           ///< (e, l): >= |d_e^T S|_l, S = E0 + P
   DMat sc_;                               ///< >= |S C|
+  EntryMat dSC_;                          ///< (e, l) >= |d_e^T S C|_l
   DMat alphaRows_, alphaRowsInv_;         ///< R(alpha): row sums of h alpha per row of J^-1; ~(I - R(alpha))^-1
   bool alphaRowsOk_ = false;
   using JSquare = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxDof, 2 * kMaxDof>;
