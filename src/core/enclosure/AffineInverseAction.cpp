@@ -492,7 +492,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // beta(e, col) >= |d_e . y| <= |d_e . v| + rho(e, col), rho >= |d_e . (y - v)|, from spread >= |y - v|:
   // |y - v| <= |E0 V| + delta, and since y - v = -E y = -E v - E (y - v),
   //   |y - v| <= first + |E| |y - v|,   first = |E0 V| + |P V| + |L V| >= |E v|,
-  // so |y - v| <= (I - |E|)^-1 first, verified by majorant() like z (the smaller bound is kept). (It replaced two
+  // so |y - v| <= (I - |E|)^-1 first, verified by majorant() like z, where the joint bound below is not available
+  // (the smaller bound is kept). (It replaced two
   // passes of spread <- first + |E| spread, which stopped well short of the fixed point where |E| is large: paper,
   // 2 threads, 23 791 -> 23 727 boxes at h = 0, 46 133 -> 45 573 at +-0.5 mm, 154 345 -> 147 155 at +-1 mm.)
   // With geometry entries, |E| |y - v| pays for L (y - v) in magnitude, |C| R(|d_e| |y - v|), where the dot products
@@ -537,8 +538,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   DMat bRhoJoint;     // >= R(|d_e . (y - v)|) from it
   {
     const DMat first = upAll(DMat(upAll(DMat(e0v + pv)) + lv));
-    DMat fp;
-    if (majorant(first, fp)) spread = spread.cwiseMin(fp);
+    bool joint = false;
     if (entries_ > 0 && jointOk_) {
       // rho1 >= |d_e . (E0 v + P v + L v)|
       EntryMat dpv = nonNegativeProduct(magG_, DMat(upAll(DMat(e0v + pv))));
@@ -553,8 +553,12 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
         spread = spread.cwiseMin(DMat(x.topRows(n_)));
         bRhoJoint = x.bottomRows(n_);
         rhoJoint = upAll(EntryMat(rho1 + nonNegativeProduct(dS_, spread) + nonNegativeProduct(alpha_, bRhoJoint)));
+        joint = true;
       }
     }
+    // (Without the joint bound, the |E| one; with it, the |E| one never kept fewer boxes: the same counts on paper.)
+    DMat fp;
+    if (!joint && majorant(first, fp)) spread = spread.cwiseMin(fp);
   }
   // sy >= |S y| (S = E0 + P, the pose part of E) through y = v + (y - v): |S y| <= |S v| + |S| |y - v|, where
   // |S v| <= |E0 v| + |P v| keeps the cancellations inside S v and |y - v| <= spread is mostly well below z >= |y|.
