@@ -85,10 +85,16 @@ A nonNegativeProduct(const A& a, const B& b) {
   A out(rows, cols);
   if (inner == 6) {
     // The common case in one pass per column (the same sums in the same order as below, so the same results).
+    // (Pointers from data(), not a(0, l): the matrices may have no rows.)
+    const double* __restrict c0 = a.data() + 0 * a.outerStride();
+    const double* __restrict c1 = a.data() + 1 * a.outerStride();
+    const double* __restrict c2 = a.data() + 2 * a.outerStride();
+    const double* __restrict c3 = a.data() + 3 * a.outerStride();
+    const double* __restrict c4 = a.data() + 4 * a.outerStride();
+    const double* __restrict c5 = a.data() + 5 * a.outerStride();
     for (int j = 0; j < cols; ++j) {
-      double* __restrict o = &out(0, j);
+      double* __restrict o = out.data() + j * out.outerStride();
       const double x0 = b(0, j), x1 = b(1, j), x2 = b(2, j), x3 = b(3, j), x4 = b(4, j), x5 = b(5, j);
-      const double* __restrict c0 = &a(0, 0), * __restrict c1 = &a(0, 1), * __restrict c2 = &a(0, 2), * __restrict c3 = &a(0, 3), * __restrict c4 = &a(0, 4), * __restrict c5 = &a(0, 5);
       for (int e = 0; e < rows; ++e) {
         double s = 0.0;
         s += c0[e] * x0;
@@ -104,10 +110,10 @@ A nonNegativeProduct(const A& a, const B& b) {
   }
   out.setZero();
   for (int j = 0; j < cols; ++j) {
-    double* o = &out(0, j);
+    double* o = out.data() + j * out.outerStride();
     for (int l = 0; l < inner; ++l) {
       const double x = b(l, j);
-      const double* col = &a(0, l);
+      const double* col = a.data() + l * a.outerStride();
       for (int e = 0; e < rows; ++e) o[e] += col[e] * x;
     }
     for (int e = 0; e < rows; ++e) o[e] = up(o[e]);
@@ -115,7 +121,6 @@ A nonNegativeProduct(const A& a, const B& b) {
   return out;
 }
 
-/// The box variables are the pose coordinates themselves (pose_i = t_i, as for workspace boxes).
 /// z >= (I - a)^-1 rhs column by column for a >= 0 (square), verified (approx: any approximation of (I - a)^-1).
 /// @return false if the verification fails.
 template <typename A, typename R>
@@ -149,6 +154,7 @@ bool fixedPoint(const A& a, const A& approx, const R& rhs, R& z) {
   return false;
 }
 
+/// The box variables are the pose coordinates themselves (pose_i = t_i, as for workspace boxes).
 bool identityPoseMap(const BoxInput& box, int n) {
   if (!box.hasGradient || box.variables != n) return false;
   for (int i = 0; i < n; ++i)
@@ -493,9 +499,9 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // |y - v| <= |E0 V| + delta, and since y - v = -E y = -E v - E (y - v),
   //   |y - v| <= first + |E| |y - v|,   first = |E0 V| + |P V| + |L V| >= |E v|,
   // so |y - v| <= (I - |E|)^-1 first, verified by majorant() like z, where the joint bound below is not available
-  // (the smaller bound is kept). (It replaced two
-  // passes of spread <- first + |E| spread, which stopped well short of the fixed point where |E| is large: paper,
-  // 2 threads, 23 791 -> 23 727 boxes at h = 0, 46 133 -> 45 573 at +-0.5 mm, 154 345 -> 147 155 at +-1 mm.)
+  // (the smaller bound is kept). (It replaced two passes of spread <- first + |E| spread, which stopped well short of
+  // the fixed point where |E| is large: paper, 2 threads, 23 791 -> 23 727 boxes at h = 0, 46 133 -> 45 573 at
+  // +-0.5 mm, 154 345 -> 147 155 at +-1 mm.)
   // With geometry entries, |E| |y - v| pays for L (y - v) in magnitude, |C| R(|d_e| |y - v|), where the dot products
   // d_e . (y - v) cancel. So |y - v| and rho are bounded together, with s >= |y - v| and Brho = R(rho) (R: row sums
   // of h x over each row's entries; L (y - v) = sum_i C_{.,i} sum over row i's entries of h gamma_e d_e . (y - v)):
