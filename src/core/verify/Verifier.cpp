@@ -242,10 +242,11 @@ class Run {
     // The certified centre evaluation looks for a witness or an uncertainty-sensitive pose: a box whose centre
     // estimates (not certified) are clearly below every threshold still to decide has neither there, so it is skipped
     // (at most delays the finding to a deeper box; never at the precision limit). Paper workspace, 5% margins: the
-    // checks cost ~7% of the time without uncertainty and ~13% at +-0.5 mm; 61-62% of them are skipped
-    // (bench/RESULTS.md).
+    // checks cost ~7% of the time without uncertainty and ~13% at +-0.5 mm with the enclosure's estimates alone, which
+    // skipped 61-62% of them; with the point value in double as well, nearly all (bench/RESULTS.md).
     const bool leaf = split < 0 && geometrySplit < 0;
-    if (leaf || (depth % std::max(1, options_.centre_check_period) == 0 && !centreClearlyBelow(bounds, active))) {
+    if (leaf || (depth % std::max(1, options_.centre_check_period) == 0 &&
+                 !centreClearlyBelow(box, bounds, active, track.useFaces || track.geometry))) {
       checkCentre(box, options_.mode == Mode::Verify ? active : ~0u);
       const int stop = stop_.load();
       if (options_.mode == Mode::Verify &&
@@ -438,14 +439,38 @@ class Run {
     return best;
   }
 
-  /// Verify mode: every component still to decide has a centre estimate (ErrorBounds::centreEstimate, not
-  /// certified) below kCentreSkip times its threshold.
-  bool centreClearlyBelow(const enclosure::ErrorBounds& bounds, unsigned active) const {
+  /// Verify mode: every component still to decide has a centre estimate (not certified) below kCentreSkip times its
+  /// threshold: the enclosure's (ErrorBounds::centreEstimate, from the worst column's affine form plus the entries
+  /// bounded by magnitude, often far above the value on large boxes) or, sharper, the value at the box centre in
+  /// double with the nominal geometry plus the first-order geometry terms there (sum over the parameters of
+  /// |ErrorBounds::geometrySensitivity|, which are in units of the half-widths) and their square over the value, as
+  /// encloseAffine() estimates the second-order ones. The geometry terms are taken only where they cover every
+  /// parameter over its whole range (`partial` false): not on faces, whose sensitivities leave out the fixed
+  /// parameters, nor on a part of the geometry box (strategy (b)), while the check is over every geometry.
+  bool centreClearlyBelow(const IVec& box, const enclosure::ErrorBounds& bounds, unsigned active, bool partial) const {
     constexpr double kCentreSkip = 0.98;
-    if (options_.mode != Mode::Verify || bounds.centreEstimate.size() != n_) return false;
+    if (options_.mode != Mode::Verify) return false;
+    DVec atCentre;
+    const bool sensitivities = params_ == 0 || (!partial && bounds.geometrySensitivity.rows() == n_ &&
+                                                bounds.geometrySensitivity.cols() == params_);
+    if (sensitivities) {
+      const DVec c = domain::centreOf(box);
+      if (domain_.classify(thinBox(c)) == domain::Containment::Inside) {
+        const IVec pose = domain_.poseAt(c);
+        DVec mid(pose.size());
+        for (int i = 0; i < static_cast<int>(pose.size()); ++i) mid[i] = pose[i].mid();
+        atCentre = enclosure::errorAtPoseDouble(model_, mid);
+      }
+    }
     for (int k = 0; k < n_; ++k) {
       if (!((active >> k) & 1u)) continue;
-      if (!(bounds.centreEstimate[k] < kCentreSkip * options_.thresholds[k])) return false;
+      const double limit = kCentreSkip * options_.thresholds[k];
+      if (bounds.centreEstimate.size() == n_ && bounds.centreEstimate[k] < limit) continue;
+      if (atCentre.size() != n_ || !(atCentre[k] > 0.0)) return false;
+      double first = 0.0;
+      for (int p = 0; p < params_; ++p) first += std::abs(bounds.geometrySensitivity(k, p));
+      const double second = atCentre[k] > first ? first * first / atCentre[k] : first;
+      if (!(atCentre[k] + first + second < limit)) return false;
     }
     return true;
   }
