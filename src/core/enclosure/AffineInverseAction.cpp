@@ -121,6 +121,43 @@ A nonNegativeProduct(const A& a, const B& b) {
   return out;
 }
 
+/// The product a b in floating point (a: at most kEntries rows, column-major; b: a.cols() x m), each column's sums in
+/// the order of b's rows, the rows innermost (so it vectorises; Eigen's lazy products of these dynamic sizes do not):
+/// f(e, j, (a b)(e, j)) for every entry. The callers' rounding margins hold for any order of the sums.
+template <int kRows, typename A, typename B, typename F>
+void productEachRows(const A& a, const B& b, F& f) {
+  const int rows = kRows > 0 ? kRows : static_cast<int>(a.rows());
+  const int inner = static_cast<int>(a.cols()), cols = static_cast<int>(b.cols());
+  eigen_assert(rows <= AffineInverseAction::kEntries);
+  double acc[kRows > 0 ? kRows : AffineInverseAction::kEntries];
+  for (int j = 0; j < cols; ++j) {
+    for (int e = 0; e < rows; ++e) acc[e] = 0.0;
+    for (int l = 0; l < inner; ++l) {
+      const double x = b(l, j);
+      const double* __restrict col = a.data() + l * a.outerStride();
+      for (int e = 0; e < rows; ++e) acc[e] += col[e] * x;
+    }
+    for (int e = 0; e < rows; ++e) f(e, j, acc[e]);
+  }
+}
+
+template <typename A, typename B, typename F>
+void productEach(const A& a, const B& b, F&& f) {
+  if (a.rows() == 6) {
+    productEachRows<6>(a, b, f);  // (the Gough platform's n x n factors: the loops unroll)
+  } else {
+    productEachRows<0>(a, b, f);
+  }
+}
+
+/// a b as an R, computed by productEach().
+template <typename R, typename A, typename B>
+R mul(const A& a, const B& b) {
+  R out(a.rows(), b.cols());
+  productEach(a, b, [&out](int e, int j, double x) { out(e, j) = x; });
+  return out;
+}
+
 /// z >= (I - a)^-1 rhs column by column for a >= 0 (square), verified (approx: any approximation of (I - a)^-1).
 /// @return false if the verification fails.
 template <typename A, typename R>
@@ -135,11 +172,11 @@ bool fixedPoint(const A& a, const A& approx, const R& rhs, R& z) {
     // next to the others (their slack would drown in the rounding margins); it only loosens z by 1e-9 of rhs max.
     for (int l = 0; l < n; ++l) w(l, j) += 1e-300 + 1e-9 * largest;
   }
-  z = approx.lazyProduct(w);
+  z = mul<R>(approx, w);
   for (int j = 0; j < m; ++j)
     for (int l = 0; l < n; ++l) z(l, j) = up(std::max(z(l, j), w(l, j))) * (1.0 + 1e-9);
   for (int attempt = 0; attempt < 4; ++attempt) {
-    const R next = upAll(R(w + upAll(R(a.lazyProduct(z)))));
+    const R next = upAll(R(w + upAll(mul<R>(a, z))));
     bool ok = true;
     for (int j = 0; j < m; ++j) {
       bool column = true;
@@ -289,6 +326,10 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     }
     for (int k = 0; k < n_; ++k) cg_(k, e) = c_(k, g.row);
   }
+  runs_ = 0;
+  for (int e = 0; e < entries_; ++e)
+    if (e == 0 || row_[e] != row_[e - 1]) runStart_[runs_++] = e;
+  runStart_[runs_] = entries_;
   // The affine forms (when the model gives them for every entry).
   affine_ = entries_ > 0 && n_ == kMaxDof;
   for (int e = 0; e < entries_ && affine_; ++e) affine_ = geo.entries[e].affine;
@@ -310,7 +351,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   const EntryMat magG = upAll(EntryMat(gm_.cwiseAbs() + gr_));
   DMat rowG = DMat::Zero(n_, n_);
   for (int e = 0; e < entries_; ++e) rowG.row(row_[e]) += h_[param_[e]] * magG.row(e);
-  const DMat magL = upAll(DMat(absC_.lazyProduct(upAll(rowG))));
+  const DMat magL = upAll(DMat(mul<DMat>(absC_, upAll(rowG))));
   // alpha(e, j) >= |d_e . C_{.,j}| for every d_e in its enclosure.
   {
     EntryMat m, r;
@@ -324,7 +365,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     dcr_ = r;
   }
   magE_ = upAll(DMat(magS + magL));
-  magE2_ = upAll(DMat(magE_.lazyProduct(magE_)));
+  magE2_ = upAll(DMat(mul<DMat>(magE_, magE_)));
   magS_ = magS;
   magE0_ = upAll(DMat(e0m_.cwiseAbs() + e0r_));
   magG_ = magG;
@@ -335,30 +376,44 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // parts of all the terms add up to two products: |gm| W + gr |S| with W = sum over the terms of |dev| (xr +
   // gamma |xm|) (the plain products' rounding errors are in the gamma part); likewise |S C| with |C| W.
   {
+    // (The entries x n products through productEach(): a third of prepare()'s instructions at +-0.5 mm were these
+    // products as Eigen's lazy ones.)
     DMat w = upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs()));
-    EntryMat ds = gm_.lazyProduct(e0m_).cwiseAbs();
-    DMat sc = e0m_.lazyProduct(c_).cwiseAbs();
+    EntryMat ds = EntryMat::Zero(entries_, n_);
+    const auto addAbs = [](EntryMat& to, double scale) {
+      return [&to, scale](int e, int j, double x) { to(e, j) += std::abs(x) * scale; };
+    };
+    const auto add = [](EntryMat& to) { return [&to](int e, int j, double x) { to(e, j) += x; }; };
+    productEach(gm_, e0m_, addAbs(ds, 1.0));
+    DMat sc = mul<DMat>(e0m_, c_).cwiseAbs();
     for (int i = 0; i < vars_; ++i) {
       w += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
-      ds += gm_.lazyProduct(dm_[i]).cwiseAbs() * devMag_[i];
-      dc_[i] = dm_[i].lazyProduct(c_);  // (also for the bilinear terms below)
+      productEach(gm_, dm_[i], addAbs(ds, devMag_[i]));
+      dc_[i] = mul<DMat>(dm_[i], c_);  // (also for the bilinear terms below)
       sc += dc_[i].cwiseAbs() * devMag_[i];
     }
     w = upAll(w);
-    ds += gm_.cwiseAbs().lazyProduct(w) + gr_.lazyProduct(magS);
-    sc += w.lazyProduct(absC_);
-    dS_ = upAll(ds).cwiseMin(upAll(EntryMat(magG.lazyProduct(magS))));
-    sc_ = upAll(sc).cwiseMin(upAll(DMat(magS.lazyProduct(absC_))));
+    const EntryMat absGm = gm_.cwiseAbs();
+    productEach(absGm, w, add(ds));
+    productEach(gr_, magS, add(ds));
+    sc += mul<DMat>(w, absC_);
+    EntryMat plain = EntryMat::Zero(entries_, n_);  // |d_e|^T |S|
+    productEach(magG, magS, add(plain));
+    dS_ = upAll(ds).cwiseMin(upAll(plain));
+    sc_ = upAll(sc).cwiseMin(upAll(DMat(mul<DMat>(magS, absC_))));
     // |d_e^T S C| likewise (the midpoints' products gm (E0m C), gm (D_i C) keep their cancellations; their roundings:
     // kGamma |gm| sc).
     if (entries_ > 0) {
-      const DMat e0c = e0m_.lazyProduct(c_);
-      EntryMat dsc = gm_.lazyProduct(e0c).cwiseAbs();
-      for (int i = 0; i < vars_; ++i) dsc += gm_.lazyProduct(dc_[i]).cwiseAbs() * devMag_[i];
-      const EntryMat absGm = gm_.cwiseAbs();
-      dsc += absGm.lazyProduct(upAll(DMat(w.lazyProduct(absC_)))) + gr_.lazyProduct(sc_) +
-             kGamma * absGm.lazyProduct(upAll(sc));
-      dSC_ = upAll(dsc).cwiseMin(upAll(EntryMat(dS_.lazyProduct(absC_))));
+      const DMat e0c = mul<DMat>(e0m_, c_);
+      EntryMat dsc = EntryMat::Zero(entries_, n_);
+      productEach(gm_, e0c, addAbs(dsc, 1.0));
+      for (int i = 0; i < vars_; ++i) productEach(gm_, dc_[i], addAbs(dsc, devMag_[i]));
+      productEach(absGm, DMat(upAll(DMat(mul<DMat>(w, absC_)))), add(dsc));
+      productEach(gr_, sc_, add(dsc));
+      productEach(absGm, DMat(upAll(sc)), addAbs(dsc, kGamma));
+      plain.setZero();  // |d_e^T S| |C|
+      productEach(dS_, absC_, add(plain));
+      dSC_ = upAll(dsc).cwiseMin(upAll(plain));
     }
   }
   // The bilinear terms (apply(), bilinearCoefficients()): the affine forms' pose symbols must be the box variables
@@ -375,13 +430,13 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       const double a = interval::AffineForm<kMaxDof>::variable(box.pose[i], i).coefficient(i);
       kappa_[i] = a > 0.0 ? devMag_[i] / a : 0.0;
       if (!(a > 0.0) && devMag_[i] > 0.0) bilinear_ = false;
-      dcAbs_[i] = upAll(DMat(dm_[i].cwiseAbs().lazyProduct(absC_)));
+      dcAbs_[i] = upAll(DMat(mul<DMat>(DMat(dm_[i].cwiseAbs()), absC_)));
       dmc += (dc_[i].cwiseAbs() + kGamma * dcAbs_[i]) * devMag_[i];
       dr += dr_[i] * devMag_[i];
     }
     dmc_ = upAll(upAll(dmc));
-    drc_ = upAll(DMat(upAll(dr).lazyProduct(absC_)));
-    e0c_ = upAll(DMat(magE0_.lazyProduct(absC_)));
+    drc_ = upAll(DMat(mul<DMat>(upAll(dr), absC_)));
+    e0c_ = upAll(DMat(mul<DMat>(magE0_, absC_)));
   }
   if (affine_) {
     // |d_e - c_e| <= sum_m |slope_m| + radius and |c_e|, component by component (apply()).
@@ -474,12 +529,16 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     for (int j = 0; j < m; ++j) {
       double* sum = &rowSum(0, j);
       const double* column = &x(0, j);
-      for (int e = 0; e < entries_; ++e) sum[row_[e]] += entryH_[e] * column[e];
+      for (int r = 0; r < runs_; ++r) {  // (each run's entries move the same row: one sum per run)
+        double t = 0.0;
+        for (int e = runStart_[r]; e < runStart_[r + 1]; ++e) t += entryH_[e] * column[e];
+        sum[row_[runStart_[r]]] += t;
+      }
     }
     rowSum = upAll(rowSum);
     return rowSum;
   };
-  auto chProduct = [&](const EntryMat& x) { return upAll(DMat(absC_.lazyProduct(rowSums(x)))); };
+  auto chProduct = [&](const EntryMat& x) { return upAll(DMat(mul<DMat>(absC_, rowSums(x)))); };
   // |Y - Y0| = |-(E - E0) V + E^2 Y| <= |P V| + |L V| + |E| |E| Z  (delta), where E - E0 = P + L (P: the pose
   // part, L: the geometry part), |L V| <= cgh |DV| keeps the cancellations inside the dot products d_e . v, and
   // |P V| <= sum_i |D_i V| |dev_i| those inside D_i v (the products the pose coefficients need anyway), which |P| |V|
@@ -490,10 +549,10 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     product(dm_[i], dr_[i], vm, vr, dvm_i[i], dvr_i[i]);
     pv += (dvm_i[i].cwiseAbs() + dvr_i[i]) * devMag_[i];
   }
-  pv = upAll(pv).cwiseMin(upAll(DMat(magSP_.lazyProduct(absV))));
-  const DMat bV = rowSums(magDV);                      // B_v: row sums of h |d_e . v|
-  const DMat lv = upAll(DMat(absC_.lazyProduct(bV)));  // >= |L V| (chProduct(magDV))
-  const DMat delta = upAll(DMat(upAll(DMat(pv + lv)) + upAll(DMat(magE2_.lazyProduct(z)))));
+  pv = upAll(pv).cwiseMin(upAll(DMat(mul<DMat>(magSP_, absV))));
+  const DMat bV = rowSums(magDV);                     // B_v: row sums of h |d_e . v|
+  const DMat lv = upAll(DMat(mul<DMat>(absC_, bV)));  // >= |L V| (chProduct(magDV))
+  const DMat delta = upAll(DMat(upAll(DMat(pv + lv)) + upAll(DMat(mul<DMat>(magE2_, z)))));
 
   // beta(e, col) >= |d_e . y| <= |d_e . v| + rho(e, col), rho >= |d_e . (y - v)|, from spread >= |y - v|:
   // |y - v| <= |E0 V| + delta, and since y - v = -E y = -E v - E (y - v),
@@ -540,6 +599,9 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     pvr = upAll(pvr);
   }
   DMat spread = upAll(DMat(delta + e0v));
+  // >= devE |P v| + |c_e| pvr + |d_e| |E0 v| (the part of |d_e . (S y)|'s bound beyond q and d_e . S (y - v), below;
+  // only with q), and dS spread for the final spread (empty if not computed).
+  EntryMat poseDotRest, dsSpread;
   EntryMat rhoJoint;  // >= |d_e . (y - v)| from the joint system below (empty if not solved)
   DMat bRhoJoint;     // >= R(|d_e . (y - v)|) from it
   {
@@ -548,9 +610,11 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     if (entries_ > 0 && jointOk_) {
       // rho1 >= |d_e . (E0 v + P v + L v)|
       EntryMat dpv = nonNegativeProduct(magG_, DMat(upAll(DMat(e0v + pv))));
-      if (q.rows() == entries_)
-        dpv = dpv.cwiseMin(upAll(EntryMat(upAll(q) + nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) +
-                                          nonNegativeProduct(magG_, e0v))));
+      if (q.rows() == entries_) {
+        poseDotRest = upAll(
+            EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) + nonNegativeProduct(magG_, e0v)));
+        dpv = dpv.cwiseMin(upAll(EntryMat(upAll(q) + poseDotRest)));
+      }
       const EntryMat rho1 = upAll(EntryMat(dpv + nonNegativeProduct(alpha_, bV)));
       JMat rhs(2 * n_, m), x;
       rhs.topRows(n_) = first;
@@ -558,7 +622,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
       if (fixedPoint(joint_, jointInv_, rhs, x)) {
         spread = spread.cwiseMin(DMat(x.topRows(n_)));
         bRhoJoint = x.bottomRows(n_);
-        rhoJoint = upAll(EntryMat(rho1 + nonNegativeProduct(dS_, spread) + nonNegativeProduct(alpha_, bRhoJoint)));
+        dsSpread = nonNegativeProduct(dS_, spread);  // (spread is final: the |E| bound below is only without it)
+        rhoJoint = upAll(EntryMat(rho1 + dsSpread + nonNegativeProduct(alpha_, bRhoJoint)));
         joint = true;
       }
     }
@@ -571,19 +636,19 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // The bounds through |S| z below are valid too: the smaller is kept. (Paper workspace, 2 threads: 5% fewer boxes
   // at +-0.5 mm, with the hints below 11%, bench/RESULTS.md.)
   absSv = upAll(DMat(e0v + pv));
-  DMat sy = upAll(DMat(absSv + upAll(DMat(magS_.lazyProduct(spread)))));
+  DMat sy = upAll(DMat(absSv + upAll(DMat(mul<DMat>(magS_, spread)))));
   if (entries_ > 0) {
     // And through S (y - v) = -S E0 v - S P v - S L v + S E (E y) with |S L v| = |S C Lambda_v| <= |S C| B_v (the
     // dot products d_e . v and S C keep their cancellations, which |S| |L v| loses; paper, 2 threads: 46 895 ->
     // 46 133 boxes at +-0.5 mm, 158 999 -> 154 345 at +-1 mm).
-    const DMat sLv = upAll(DMat(sc_.lazyProduct(bV)));
-    const DMat other = upAll(DMat(upAll(DMat(e0v + pv)) + upAll(DMat(magE_.lazyProduct(spread)))));
-    sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(magS_.lazyProduct(other))) + sLv)))));
+    const DMat sLv = upAll(DMat(mul<DMat>(sc_, bV)));
+    const DMat other = upAll(DMat(upAll(DMat(e0v + pv)) + upAll(DMat(mul<DMat>(magE_, spread)))));
+    sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(mul<DMat>(magS_, other))) + sLv)))));
     if (bRhoJoint.rows() == n_) {
       // S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)), |S L x| = |S C Lambda_x| <= |S C| R(|d_e . x|).
-      const DMat inner = upAll(DMat(absSv + upAll(DMat(magS_.lazyProduct(spread)))));
-      const DMat sl = upAll(DMat(sc_.lazyProduct(upAll(DMat(bV + bRhoJoint)))));
-      sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(magS_.lazyProduct(inner))) + sl)))));
+      const DMat inner = upAll(DMat(absSv + upAll(DMat(mul<DMat>(magS_, spread)))));
+      const DMat sl = upAll(DMat(mul<DMat>(sc_, upAll(DMat(bV + bRhoJoint)))));
+      sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(mul<DMat>(magS_, inner))) + sl)))));
     }
   }
   EntryMat gsy;  // >= |d_e . (S y)|: |d_e| |S y|, and with the affine forms of d_e (below) the smaller bound
@@ -602,13 +667,15 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   if (affine_ && forBounds) {
     // |d_e . S (y - v)| <= dS spread, or through S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)):
     // dS (|E0 v| + |P v| + |S| spread) + |d_e^T S C| R(|d_e . v| + rho).
-    EntryMat dsSpread = nonNegativeProduct(dS_, spread);
+    if (dsSpread.rows() != entries_) dsSpread = nonNegativeProduct(dS_, spread);
     if (bRhoJoint.rows() == n_)
       dsSpread = dsSpread.cwiseMin(
-          upAll(EntryMat(nonNegativeProduct(dS_, DMat(upAll(DMat(absSv + upAll(DMat(magS_.lazyProduct(spread))))))) +
+          upAll(EntryMat(nonNegativeProduct(dS_, DMat(upAll(DMat(absSv + upAll(DMat(mul<DMat>(magS_, spread))))))) +
                          nonNegativeProduct(dSC_, DMat(upAll(DMat(bV + bRhoJoint)))))));
-    dotRest = upAll(EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) +
-                             nonNegativeProduct(magG_, e0v) + dsSpread));
+    if (poseDotRest.rows() != entries_)
+      poseDotRest = upAll(
+          EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) + nonNegativeProduct(magG_, e0v)));
+    dotRest = upAll(EntryMat(poseDotRest + dsSpread));
     gsy = gsy.cwiseMin(upAll(EntryMat(upAll(q) + dotRest)));
   }
   EntryMat rho = nonNegativeProduct(magG_, spread);
@@ -621,8 +688,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // pass gains a tenth of the first at a sixth of the cost per box; not worth it.)
   DMat b = rowSums(beta);
   {
-    const DMat pz = upAll(DMat(magS_.lazyProduct(z))).cwiseMin(sy);  // >= |(E0 + P) y|, |E0 + P| <= |S|
-    EntryMat dsz = nonNegativeProduct(dS_, z);                       // >= |d_e . (S y)|
+    const DMat pz = upAll(DMat(mul<DMat>(magS_, z))).cwiseMin(sy);  // >= |(E0 + P) y|, |E0 + P| <= |S|
+    EntryMat dsz = nonNegativeProduct(dS_, z);                      // >= |d_e . (S y)|
     if (entries_ > 0) dsz = dsz.cwiseMin(gsy);
     // The same refinement to its fixed point: with rho <= dsz + alpha B, B = R(|d_e . v| + rho) satisfies
     // B <= R(|DV|) + R(dsz) + R(alpha) B (R: the row sums of h x, linear), so B <= (I - R(alpha))^-1 (...), verified
@@ -633,7 +700,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
       if (fixedPoint(alphaRows_, alphaRowsInv_, rhs, fixed)) b = b.cwiseMin(fixed);
     }
     const EntryMat rho2 = upAll(EntryMat(dsz + nonNegativeProduct(alpha_, b)));
-    const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(absC_.lazyProduct(b)))));
+    const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(mul<DMat>(absC_, b)))));
     rho = rho.cwiseMin(rho2);
     z = z.cwiseMin(z2);
     out.sigma = nonNegativeProduct(dS_, z);
@@ -646,8 +713,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // E^2 Y = S S Y + S L Y + L S Y + L L Y (S: pose part with E0, L: geometry part):
   //   |S S y| <= |S| min(|S| z, sy);   |S L y| = |S C Lambda| <= |S C| B (the dot products d_e . y keep their
   //   cancellations); |L S y| <= cgh |d_e . (S y)| <= cgh min(dS z, |d_e| sy);   |L L y| <= cgh Gamma.
-  const DMat ssy = upAll(DMat(magS_.lazyProduct(upAll(DMat(magS_.lazyProduct(z))).cwiseMin(sy))));
-  const DMat sly = upAll(DMat(sc_.lazyProduct(b)));
+  const DMat ssy = upAll(DMat(mul<DMat>(magS_, upAll(DMat(mul<DMat>(magS_, z))).cwiseMin(sy))));
+  const DMat sly = upAll(DMat(mul<DMat>(sc_, b)));
   const DMat lsy = chProduct(out.sigma);
   const DMat ll = chProduct(gamma);
   const DMat remainder = upAll(DMat(upAll(DMat(ssy + sly)) + upAll(DMat(lsy + ll))));
@@ -692,8 +759,8 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     // radii (poseSpread, |C| h dvr0: d_e . v without its slope part) and |S S y| as above.
     const DMat bRho = rowSums(rho);
     const DMat bDvr = rowSums(dvr);
-    const DMat rowPart = upAll(DMat(upAll(DMat(sc_.lazyProduct(bRho))) + upAll(DMat(e0c_.lazyProduct(bV))) +
-                                    upAll(DMat(drc_.lazyProduct(bV))) + upAll(DMat(dmc_.lazyProduct(bDvr)))));
+    const DMat rowPart = upAll(DMat(upAll(DMat(mul<DMat>(sc_, bRho))) + upAll(DMat(mul<DMat>(e0c_, bV))) +
+                                    upAll(DMat(mul<DMat>(drc_, bV))) + upAll(DMat(mul<DMat>(dmc_, bDvr)))));
     const DMat firstOrder = chProduct(upAll(EntryMat(dvr0 + (2.0 * kGamma) * dvm.cwiseAbs())));
     // (|L L y| is not in it: upperBilinear() bounds it with the geometry terms, from gamma and B.)
     out.bilinearRadius = upAll(DMat(upAll(DMat(yr + ssy + poseRadius)) + firstOrder + rowPart + chProduct(dotRest)));

@@ -137,62 +137,80 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   double unit[kMaxDof];
   // Monotonicity in the geometry: where f_k (the largest of its columns' functions, no magnitude terms) is certified
   // monotone in some parameters over the box and geometry, its maximum lies on the face with those parameters at
-  // their raising ends, and upperOnFace() bounds every column there. One apply per row, so that the directions
-  // common to the row's columns are known while its affine forms are at hand.
+  // their raising ends, and upperOnFace() bounds every column there (while the row's affine forms are at hand).
   double onFace[kMaxDof];
   for (int k = 0; k < n; ++k) onFace[k] = std::numeric_limits<double>::infinity();
   double dir[kMaxGeometryParameters], common[kMaxGeometryParameters], jSign[kMaxDof];
-  for (std::size_t first = 0; first < columns.size();) {
-    const int k = columns[first].row;
-    int m = 0;
-    while (first + m < columns.size() && columns[first + m].row == k && m < n) ++m;
-    IMat batch(n, m);
-    for (int q = 0; q < m; ++q) batch.col(q) = columns[first + q].v;
+  // The rows' columns in segments of at most n (a row's columns are one segment unless it has more than n), and the
+  // segments in batches of at most n columns, one apply per batch: apply() works column by column (the same bounds
+  // as one apply per row), and its cost per call beyond the columns' is paid once per batch instead of once per
+  // row.
+  for (std::size_t batchFirst = 0; batchFirst < columns.size();) {
+    int segmentRow[kMaxDof], segmentFirst[kMaxDof], segmentSize[kMaxDof];
+    int segments = 0, batchSize = 0;
+    while (batchFirst + batchSize < columns.size()) {
+      const std::size_t first = batchFirst + static_cast<std::size_t>(batchSize);
+      const int k = columns[first].row;
+      int m = 0;
+      while (first + m < columns.size() && columns[first + m].row == k && m < n) ++m;
+      if (batchSize + m > n) break;
+      segmentRow[segments] = k;
+      segmentFirst[segments] = batchSize;
+      segmentSize[segments] = m;
+      ++segments;
+      batchSize += m;
+    }
+    IMat batch(n, batchSize);
+    for (int q = 0; q < batchSize; ++q) batch.col(q) = columns[batchFirst + q].v;
     if (!act.apply(batch, nv, true)) return false;
-    for (int q = 0; q < m; ++q) {
-      for (int j = 0; j < m; ++j) unit[j] = j == q ? 1.0 : 0.0;
-      AffineInverseAction::combine(nv, k, unit, comb);
-      // At the box centre, over the geometries: the first-order terms' maximum G, plus G^2 / value for the
-      // second-order ones (measured: ~1.3% of f_k at +-1 mm, where G is 10-18% of it; G itself for a column whose
-      // value is not positive, a sign choice far from the row's maximum).
-      double first = 0.0;
-      for (int p = 0; p < comb.params; ++p) first += std::abs(comb.geometry[p]);
-      const double second = comb.centre > first ? first * first / comb.centre : first;
-      const double estimate = comb.centre + first + second;
-      atCentre[k] = std::max(atCentre[k], estimate);
-      lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
-      // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target.
-      double columnUpper = comb.upper();
-      if (nv.bilinear && (box.targets.size() != n || (Interval(columnUpper) + rest[k]).upper() > box.targets[k]))
-        columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
-      if (columnUpper > upper[k]) {
-        upper[k] = columnUpper;
-        best[k] = comb;
+    for (int segment = 0; segment < segments; ++segment) {
+      const int k = segmentRow[segment], offset = segmentFirst[segment], m = segmentSize[segment];
+      for (int q = offset; q < offset + m; ++q) {
+        for (int j = 0; j < batchSize; ++j) unit[j] = j == q ? 1.0 : 0.0;
+        AffineInverseAction::combine(nv, k, unit, comb);
+        // At the box centre, over the geometries: the first-order terms' maximum G, plus G^2 / value for the
+        // second-order ones (measured: ~1.3% of f_k at +-1 mm, where G is 10-18% of it; G itself for a column whose
+        // value is not positive, a sign choice far from the row's maximum).
+        double first = 0.0;
+        for (int p = 0; p < comb.params; ++p) first += std::abs(comb.geometry[p]);
+        const double second = comb.centre > first ? first * first / comb.centre : first;
+        const double estimate = comb.centre + first + second;
+        atCentre[k] = std::max(atCentre[k], estimate);
+        lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
+        // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target.
+        double columnUpper = comb.upper();
+        if (nv.bilinear && (box.targets.size() != n || (Interval(columnUpper) + rest[k]).upper() > box.targets[k]))
+          columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
+        if (columnUpper > upper[k]) {
+          upper[k] = columnUpper;
+          best[k] = comb;
+        }
+      }
+      // Only where the bound is not good enough already (BoxInput::targets), f_k has no magnitude terms, and every
+      // column of the row is in this segment.
+      const bool enough = box.targets.size() == n && upper[k] <= box.targets[k];
+      int directions = magnitudeTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
+      for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
+      for (int q = 0; q < m && directions > 0; ++q) {
+        act.monotoneDirections(nv, offset + q, jSign, dir);
+        directions = 0;
+        for (int p = 0; p < params; ++p) {
+          common[p] = q == 0 ? dir[p] : (common[p] == dir[p] ? dir[p] : 0.0);
+          directions += common[p] != 0.0 ? 1 : 0;
+        }
+      }
+      if (directions > 0) {
+        for (int p = 0; p < params; ++p) {
+          if (common[p] > 0.0) out.faces.up[k] |= std::uint64_t(1) << p;
+          if (common[p] < 0.0) out.faces.down[k] |= std::uint64_t(1) << p;
+        }
+        double largestOnFace = -std::numeric_limits<double>::infinity();
+        for (int q = offset; q < offset + m; ++q)
+          largestOnFace = std::max(largestOnFace, act.upperOnFace(nv, k, q, common));
+        onFace[k] = largestOnFace;
       }
     }
-    // Only where the bound is not good enough already (BoxInput::targets), f_k has no magnitude terms, and every
-    // column of the row is in this batch.
-    const bool enough = box.targets.size() == n && upper[k] <= box.targets[k];
-    int directions = magnitudeTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
-    for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
-    for (int q = 0; q < m && directions > 0; ++q) {
-      act.monotoneDirections(nv, q, jSign, dir);
-      directions = 0;
-      for (int p = 0; p < params; ++p) {
-        common[p] = q == 0 ? dir[p] : (common[p] == dir[p] ? dir[p] : 0.0);
-        directions += common[p] != 0.0 ? 1 : 0;
-      }
-    }
-    if (directions > 0) {
-      for (int p = 0; p < params; ++p) {
-        if (common[p] > 0.0) out.faces.up[k] |= std::uint64_t(1) << p;
-        if (common[p] < 0.0) out.faces.down[k] |= std::uint64_t(1) << p;
-      }
-      double largestOnFace = -std::numeric_limits<double>::infinity();
-      for (int q = 0; q < m; ++q) largestOnFace = std::max(largestOnFace, act.upperOnFace(nv, k, q, common));
-      onFace[k] = largestOnFace;
-    }
-    first += static_cast<std::size_t>(m);
+    batchFirst += static_cast<std::size_t>(batchSize);
   }
   double smear[kMaxDof] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   double largest = 0.0;

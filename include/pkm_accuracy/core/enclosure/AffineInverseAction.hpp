@@ -189,17 +189,20 @@ class AffineInverseAction {
   /// The bilinear terms (AffineMatrix::bilinear) can be built for this box: workspace boxes (pose = box variables),
   /// affine geometry derivatives for every entry, one entry per parameter.
   bool bilinear_ = false;
-  std::array<DMat, kMaxDof> dc_;          ///< D_i C (midpoints of the pose slopes times C, computed in floating point)
-  std::array<DMat, kMaxDof> dcAbs_;       ///< up(|D_i| |C|): bounds the rounding of dc_
-  double kappa_[kMaxDof];                 ///< dev_i / (the affine forms' scale of tau_i): their tau'_i = kappa_i tau_i
-  DMat e0c_, drc_, dmc_;                  ///< >= |E0| |C|, >= (sum_i dr_i dev_i) |C|, >= sum_i |D_i C| dev_i
-  EntryMat devE_;                         ///< (e, l) >= |d_e - c_e|_l: sum_m |slope| + radius
-  EntryMat absCe_;                        ///< |c_e|
-  RowEntryMat cg_;                        ///< (k, e): C_{k, row(e)}
-  EntryMat alpha_;                        ///< (e, j): bound of |d_e . C_{.,j}|
-  EntryMat dcm_, dcr_;                    ///< (e, j): d_e . C_{.,j}, midpoint and radius
-  int param_[kEntries];                   ///< parameter of each entry
-  int row_[kEntries];                     ///< row of J^-1 each entry moves
+  std::array<DMat, kMaxDof> dc_;     ///< D_i C (midpoints of the pose slopes times C, computed in floating point)
+  std::array<DMat, kMaxDof> dcAbs_;  ///< up(|D_i| |C|): bounds the rounding of dc_
+  double kappa_[kMaxDof];            ///< dev_i / (the affine forms' scale of tau_i): their tau'_i = kappa_i tau_i
+  DMat e0c_, drc_, dmc_;             ///< >= |E0| |C|, >= (sum_i dr_i dev_i) |C|, >= sum_i |D_i C| dev_i
+  EntryMat devE_;                    ///< (e, l) >= |d_e - c_e|_l: sum_m |slope| + radius
+  EntryMat absCe_;                   ///< |c_e|
+  RowEntryMat cg_;                   ///< (k, e): C_{k, row(e)}
+  EntryMat alpha_;                   ///< (e, j): bound of |d_e . C_{.,j}|
+  EntryMat dcm_, dcr_;               ///< (e, j): d_e . C_{.,j}, midpoint and radius
+  int param_[kEntries];              ///< parameter of each entry
+  int row_[kEntries];                ///< row of J^-1 each entry moves
+  /// Runs of consecutive entries moving the same row: run r is entries runStart_[r] to runStart_[r + 1] - 1.
+  int runs_ = 0;
+  int runStart_[kEntries + 1];
   double h_[kMaxGeometryParameters];      ///< |g_p - g0_p| <=
   double entryH_[kEntries];               ///< h_p of each entry's parameter
   DMat magE_, magS_, magE0_, absC_, q_;   ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
