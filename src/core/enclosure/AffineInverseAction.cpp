@@ -602,6 +602,12 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // >= devE |P v| + |c_e| pvr + |d_e| |E0 v| (the part of |d_e . (S y)|'s bound beyond q and d_e . S (y - v), below;
   // only with q), and dS spread for the final spread (empty if not computed).
   EntryMat poseDotRest, dsSpread;
+  const auto poseDotRestOnce = [&]() -> const EntryMat& {
+    if (poseDotRest.rows() != entries_)
+      poseDotRest = upAll(
+          EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) + nonNegativeProduct(magG_, e0v)));
+    return poseDotRest;
+  };
   EntryMat rhoJoint;  // >= |d_e . (y - v)| from the joint system below (empty if not solved)
   DMat bRhoJoint;     // >= R(|d_e . (y - v)|) from it
   {
@@ -611,9 +617,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
       // rho1 >= |d_e . (E0 v + P v + L v)|
       EntryMat dpv = nonNegativeProduct(magG_, DMat(upAll(DMat(e0v + pv))));
       if (q.rows() == entries_) {
-        poseDotRest = upAll(
-            EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) + nonNegativeProduct(magG_, e0v)));
-        dpv = dpv.cwiseMin(upAll(EntryMat(upAll(q) + poseDotRest)));
+        dpv = dpv.cwiseMin(upAll(EntryMat(upAll(q) + poseDotRestOnce())));
       }
       const EntryMat rho1 = upAll(EntryMat(dpv + nonNegativeProduct(alpha_, bV)));
       JMat rhs(2 * n_, m), x;
@@ -672,10 +676,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
       dsSpread = dsSpread.cwiseMin(
           upAll(EntryMat(nonNegativeProduct(dS_, DMat(upAll(DMat(absSv + upAll(DMat(mul<DMat>(magS_, spread))))))) +
                          nonNegativeProduct(dSC_, DMat(upAll(DMat(bV + bRhoJoint)))))));
-    if (poseDotRest.rows() != entries_)
-      poseDotRest = upAll(
-          EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) + nonNegativeProduct(magG_, e0v)));
-    dotRest = upAll(EntryMat(poseDotRest + dsSpread));
+    dotRest = upAll(EntryMat(poseDotRestOnce() + dsSpread));
     gsy = gsy.cwiseMin(upAll(EntryMat(upAll(q) + dotRest)));
   }
   EntryMat rho = nonNegativeProduct(magG_, spread);

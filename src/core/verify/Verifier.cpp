@@ -450,23 +450,26 @@ class Run {
   bool centreClearlyBelow(const IVec& box, const enclosure::ErrorBounds& bounds, unsigned active, bool partial) const {
     constexpr double kCentreSkip = 0.98;
     if (options_.mode != Mode::Verify) return false;
-    DVec atCentre;
     const bool sensitivities = params_ == 0 || (!partial && bounds.geometrySensitivity.rows() == n_ &&
                                                 bounds.geometrySensitivity.cols() == params_);
-    if (sensitivities) {
+    DVec atCentre;  // (only once a component needs it)
+    bool evaluated = false;
+    const auto valueAtCentre = [&]() -> const DVec& {
+      if (evaluated) return atCentre;
+      evaluated = true;
       const DVec c = domain::centreOf(box);
-      if (domain_.classify(thinBox(c)) == domain::Containment::Inside) {
-        const IVec pose = domain_.poseAt(c);
-        DVec mid(pose.size());
-        for (int i = 0; i < static_cast<int>(pose.size()); ++i) mid[i] = pose[i].mid();
-        atCentre = enclosure::errorAtPoseDouble(model_, mid);
-      }
-    }
+      if (!sensitivities || domain_.classify(thinBox(c)) != domain::Containment::Inside) return atCentre;
+      const IVec pose = domain_.poseAt(c);
+      DVec mid(pose.size());
+      for (int i = 0; i < static_cast<int>(pose.size()); ++i) mid[i] = pose[i].mid();
+      atCentre = enclosure::errorAtPoseDouble(model_, mid);
+      return atCentre;
+    };
     for (int k = 0; k < n_; ++k) {
       if (!((active >> k) & 1u)) continue;
       const double limit = kCentreSkip * options_.thresholds[k];
       if (bounds.centreEstimate.size() == n_ && bounds.centreEstimate[k] < limit) continue;
-      if (atCentre.size() != n_ || !(atCentre[k] > 0.0)) return false;
+      if (valueAtCentre().size() != n_ || !(atCentre[k] > 0.0)) return false;
       double first = 0.0;
       for (int p = 0; p < params_; ++p) first += std::abs(bounds.geometrySensitivity(k, p));
       const double second = atCentre[k] > first ? first * first / atCentre[k] : first;
