@@ -112,7 +112,13 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         magnitudeTerms[k] = true;
       }
     }
-    for (int choice = 0; choice < (1 << opened); ++choice) {
+    // The choice with the signs of the entries' midpoints first (the row's largest column at the box centre), so
+    // that a row which misses its target tends to do so on its first column (the bilinear bound is skipped after).
+    int preferred = 0;
+    for (int q = 0; q < opened; ++q)
+      if (entries[open[q]].mid() < 0.0) preferred |= 1 << q;
+    for (int index = 0; index < (1 << opened); ++index) {
+      const int choice = index ^ preferred;
       for (int q = 0; q < opened; ++q) w[open[q]] = (choice & (1 << q)) ? -e[open[q]] : e[open[q]];
       Column col{k, IVec::Constant(n, Interval(0.0))};
       for (int j = 0; j < n; ++j) {
@@ -177,9 +183,12 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         const double estimate = comb.centre + first + second;
         atCentre[k] = std::max(atCentre[k], estimate);
         lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
-        // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target.
+        // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target,
+        // unless an earlier column of the row has missed it already (the row is undecided whatever this one gives).
         double columnUpper = comb.upper();
-        if (nv.bilinear && (box.targets.size() != n || (Interval(columnUpper) + rest[k]).upper() > box.targets[k]))
+        const bool targeted = box.targets.size() == n;
+        if (nv.bilinear && (!targeted || ((Interval(columnUpper) + rest[k]).upper() > box.targets[k] &&
+                                          !((Interval(upper[k]) + rest[k]).upper() > box.targets[k]))))
           columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
         if (columnUpper > upper[k]) {
           upper[k] = columnUpper;
