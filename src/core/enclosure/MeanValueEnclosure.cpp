@@ -133,10 +133,12 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   out.geometrySmear = GMat::Zero(n, params);
   out.geometrySensitivity = GMat::Zero(n, params);
   double upper[kMaxDof], lower[kMaxDof];
+  bool missed[kMaxDof];  // a column of the row has missed its target (BoxInput::targets) already
   static thread_local AffineInverseAction::Combination best[kMaxDof];
   double atCentre[kMaxDof];  // the largest column's value estimate at the box centre (not certified)
   for (int k = 0; k < n; ++k) {
     upper[k] = -std::numeric_limits<double>::infinity();
+    missed[k] = false;
     lower[k] = 0.0;
     atCentre[k] = -std::numeric_limits<double>::infinity();
   }
@@ -187,9 +189,9 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         // unless an earlier column of the row has missed it already (the row is undecided whatever this one gives).
         double columnUpper = comb.upper();
         const bool targeted = box.targets.size() == n;
-        if (nv.bilinear && (!targeted || ((Interval(columnUpper) + rest[k]).upper() > box.targets[k] &&
-                                          !((Interval(upper[k]) + rest[k]).upper() > box.targets[k]))))
+        if (nv.bilinear && (!targeted || (!missed[k] && (Interval(columnUpper) + rest[k]).upper() > box.targets[k])))
           columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
+        if (targeted && (Interval(columnUpper) + rest[k]).upper() > box.targets[k]) missed[k] = true;
         if (columnUpper > upper[k]) {
           upper[k] = columnUpper;
           best[k] = comb;
