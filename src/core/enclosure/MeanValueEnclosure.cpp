@@ -149,6 +149,11 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   double onFace[kMaxDof];
   for (int k = 0; k < n; ++k) onFace[k] = std::numeric_limits<double>::infinity();
   double dir[kMaxGeometryParameters], common[kMaxGeometryParameters], jSign[kMaxDof];
+  // A bound of row k misses its target (BoxInput::targets; never without targets).
+  const bool targeted = box.targets.size() == n;
+  const auto misses = [&](int k, double bound) {
+    return targeted && (Interval(bound) + rest[k]).upper() > box.targets[k];
+  };
   // The rows' columns in segments of at most n (a row's columns are one segment unless it has more than n), and the
   // segments in batches of at most n columns, one apply per batch: apply() works column by column (the same bounds
   // as one apply per row), and its cost per call beyond the columns' is paid once per batch instead of once per
@@ -188,10 +193,9 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target,
         // unless an earlier column of the row has missed it already (the row is undecided whatever this one gives).
         double columnUpper = comb.upper();
-        const bool targeted = box.targets.size() == n;
-        if (nv.bilinear && (!targeted || (!missed[k] && (Interval(columnUpper) + rest[k]).upper() > box.targets[k])))
+        if (nv.bilinear && (!targeted || (!missed[k] && misses(k, columnUpper))))
           columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
-        if (targeted && (Interval(columnUpper) + rest[k]).upper() > box.targets[k]) missed[k] = true;
+        missed[k] = missed[k] || misses(k, columnUpper);
         if (columnUpper > upper[k]) {
           upper[k] = columnUpper;
           best[k] = comb;
@@ -199,7 +203,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       }
       // Only where the bound is not good enough already (BoxInput::targets), f_k has no magnitude terms, and every
       // column of the row is in this segment.
-      const bool enough = box.targets.size() == n && upper[k] <= box.targets[k];
+      const bool enough = targeted && upper[k] <= box.targets[k];
       int directions = magnitudeTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
       for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
       for (int q = 0; q < m && directions > 0; ++q) {
