@@ -406,4 +406,48 @@ TEST(IntervalMpfr, IntegerPower) {
       true, false);
 }
 
+TEST(IntervalMpfr, AbsSecantBoundsTheMagnitudeExactly) {
+  // |x| e <= weight x + offset for every x of the interval (checked exactly in MPFR at both ends, 0 and a random
+  // interior point; |x| e - weight x is convex, so the ends decide), |weight| <= e, and offset no more than the
+  // magnitude bound mag(a) e (a few ulps of slack for the roundings) nor than a few ulps where a has one sign.
+  Gen g(20261203);
+  Mp lhs(300), rhs(300), t(300);
+  const auto holdsAt = [&](double x, double e, const iv::AbsSecant& s) {
+    mpfr_set_d(t.v, x, MPFR_RNDN);
+    mpfr_abs(t.v, t.v, MPFR_RNDN);
+    mpfr_mul_d(lhs.v, t.v, e, MPFR_RNDN);  // exact at 300 bits
+    mpfr_set_d(t.v, x, MPFR_RNDN);
+    mpfr_mul_d(rhs.v, t.v, s.weight, MPFR_RNDN);
+    mpfr_add_d(rhs.v, rhs.v, s.offset, MPFR_RNDN);  // exact: the exponents differ by far less than 240
+    return mpfr_cmp(lhs.v, rhs.v) <= 0;
+  };
+  long failures = 0, cases = 0;  // NOLINT(runtime/int)
+  for (int i = 0; i < 200000; ++i) {
+    const double scale = std::ldexp(1.0, static_cast<int>(g.uniform(-30, 10)));
+    const double centre = g.sign() * g.unit() * scale;
+    const double radius = (i % 5 == 0 ? std::ldexp(g.unit(), -40) : g.unit()) * scale;
+    const Interval a(centre - radius, centre + radius);
+    const double e = g.unit() * std::ldexp(1.0, static_cast<int>(g.uniform(-25, 5)));
+    const iv::AbsSecant s = iv::absSecant(a, e);
+    ++cases;
+    bool ok =
+        std::abs(s.weight) <= e && s.offset >= 0.0 && s.offset <= rd::nextUp(rd::mulUp(a.mag(), e) * (1.0 + 1e-15));
+    const double interior = a.lower() + g.unit() * (a.upper() - a.lower());
+    for (const double x : {a.lower(), a.upper(), 0.0, interior})
+      if (a.contains(x)) ok = ok && holdsAt(x, e, s);
+    if (a.lower() >= 0.0 || a.upper() <= 0.0)
+      ok = ok && s.offset <= 8.0 * std::numeric_limits<double>::epsilon() * a.mag() * e + 1e-300;
+    if (!ok && ++failures <= 5)
+      std::printf("absSecant([%.17g, %.17g], %.17g) = (%.17g, %.17g)\n", a.lower(), a.upper(), e, s.weight, s.offset);
+  }
+  EXPECT_EQ(failures, 0) << "of " << cases;
+  // The ends of the range: one sign, symmetric, a point, zero weight.
+  EXPECT_EQ(iv::absSecant(Interval(1.0, 2.0), 3.0).weight, 3.0);
+  EXPECT_EQ(iv::absSecant(Interval(-2.0, -1.0), 3.0).weight, -3.0);
+  EXPECT_EQ(iv::absSecant(Interval(-2.0, 2.0), 3.0).weight, 0.0);
+  EXPECT_GE(iv::absSecant(Interval(-2.0, 2.0), 3.0).offset, 6.0);
+  EXPECT_LE(iv::absSecant(Interval(-2.0, 2.0), 3.0).offset, 6.0 * (1.0 + 4.0 * std::numeric_limits<double>::epsilon()));
+  EXPECT_TRUE(std::isinf(iv::absSecant(Interval(-1.0, std::numeric_limits<double>::infinity()), 1.0).offset));
+}
+
 }  // namespace

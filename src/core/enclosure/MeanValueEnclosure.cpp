@@ -1,5 +1,6 @@
 #include "pkm_accuracy/core/enclosure/MeanValueEnclosure.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -24,7 +25,7 @@ constexpr int kFaceIterations = 4;
 ///   w_s,j = s_j e_j,
 /// each choice one column N v (v = C w_s) whose first-order terms cancel across legs (much tighter than adding
 /// |J_kj| e_j for the undetermined entries). Beyond kMaxOpen undetermined entries in a row (or negligible ones),
-/// |J_kj| e_j is bounded by its magnitude.
+/// |J_kj| e_j is bounded by the secant of |x| e_j over J_kj's enclosure: a weight in the column plus a constant.
 /// Only the components in `rows` (a subset of box.rows) are bounded. The geometry directions certified for a row
 /// are added to out.faces (which the caller initialised).
 /// @return false if the affine form cannot be built (then the interval path runs instead).
@@ -85,7 +86,8 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   static thread_local std::vector<Column> columns;
   columns.clear();
   Interval rest[kMaxDof];
-  bool magnitudeTerms[kMaxDof];  // row k has entries bounded by their magnitude (then no monotonicity for f_k)
+  // Row k has entries bounded by their secants: its columns bound f_k without being f_k (then no monotonicity).
+  bool magnitudeTerms[kMaxDof];
   int columnsOfRow[kMaxDof];
   for (int k = 0; k < n; ++k) {
     rest[k] = Interval(0.0);
@@ -101,14 +103,30 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     double w[kMaxDof];
     int open[kMaxDof];
     int opened = 0;
+    // The undetermined entries: the kMaxOpen whose linear bound below costs most get both signs (one column per
+    // choice); the others are bounded by the secant of |x| over their enclosure, |J_kj| e_j <= s_j J_kj + o_j
+    // (interval::absSecant: weight s_j in [-e_j, e_j], offset o_j into `rest`), so their first-order terms still
+    // join the column's, where the magnitude bound |J_kj| <= mag([J_kj]) lost them. (Paper workspace, 1.05 x the
+    // maxima, 2 threads: +-1 mm 113 061 -> 93 651 boxes, +-0.5 mm 42 981 -> 40 847, h = 0 23 727 -> 23 783.)
+    interval::AbsSecant secant[kMaxDof];
+    int undetermined[kMaxDof];
+    int count = 0;
     for (int j = 0; j < n; ++j) {
       const Interval& x = entries[j];
       w[j] = x.lower() > 0.0 ? e[j] : (x.upper() < 0.0 ? -e[j] : 0.0);  // exact
       if (w[j] != 0.0) continue;
-      if (opened < kMaxOpen && x.mag() * e[j] > kNegligible * rowSize) {
+      secant[j] = interval::absSecant(x, e[j]);
+      undetermined[count++] = j;
+    }
+    std::stable_sort(undetermined, undetermined + count,
+                     [&secant](int a, int b) { return secant[a].offset > secant[b].offset; });
+    for (int q = 0; q < count; ++q) {
+      const int j = undetermined[q];
+      if (opened < kMaxOpen && entries[j].mag() * e[j] > kNegligible * rowSize) {
         open[opened++] = j;
       } else {
-        rest[k] += Interval(x.mag()) * Interval(e[j]);
+        w[j] = secant[j].weight;
+        rest[k] += Interval(secant[j].offset);
         magnitudeTerms[k] = true;
       }
     }
@@ -189,7 +207,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         const double second = comb.centre > first ? first * first / comb.centre : first;
         const double estimate = comb.centre + first + second;
         atCentre[k] = std::max(atCentre[k], estimate);
-        lower[k] = std::max(lower[k], comb.lower());  // |x| >= s x for every sign s
+        lower[k] = std::max(lower[k], comb.lower());  // |x| e >= w x for every |w| <= e
         // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target,
         // unless an earlier column of the row has missed it already (the row is undecided whatever this one gives).
         double columnUpper = comb.upper();
