@@ -87,11 +87,11 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   columns.clear();
   Interval rest[kMaxDof];
   // Row k has entries bounded by their secants: its columns bound f_k without being f_k (then no monotonicity).
-  bool magnitudeTerms[kMaxDof];
+  bool secantTerms[kMaxDof];
   int columnsOfRow[kMaxDof];
   for (int k = 0; k < n; ++k) {
     rest[k] = Interval(0.0);
-    magnitudeTerms[k] = false;
+    secantTerms[k] = false;
     columnsOfRow[k] = 0;
     if (!wants(k)) continue;
     Interval entries[kMaxDof];
@@ -127,7 +127,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       } else {
         w[j] = secant[j].weight;
         rest[k] += Interval(secant[j].offset);
-        magnitudeTerms[k] = true;
+        secantTerms[k] = true;
       }
     }
     // The choice with the signs of the entries' midpoints first (the row's largest column at the box centre), so
@@ -161,7 +161,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     atCentre[k] = -std::numeric_limits<double>::infinity();
   }
   double unit[kMaxDof];
-  // Monotonicity in the geometry: where f_k (the largest of its columns' functions, no magnitude terms) is certified
+  // Monotonicity in the geometry: where f_k (the largest of its columns' functions, no secant terms) is certified
   // monotone in some parameters over the box and geometry, its maximum lies on the face with those parameters at
   // their raising ends, and upperOnFace() bounds every column there (while the row's affine forms are at hand).
   double onFace[kMaxDof];
@@ -219,10 +219,10 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
           best[k] = comb;
         }
       }
-      // Only where the bound is not good enough already (BoxInput::targets), f_k has no magnitude terms, and every
+      // Only where the bound is not good enough already (BoxInput::targets), f_k has no secant terms, and every
       // column of the row is in this segment.
       const bool enough = targeted && upper[k] <= box.targets[k];
-      int directions = magnitudeTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
+      int directions = secantTerms[k] || enough || m != columnsOfRow[k] ? 0 : params;
       for (int i = 0; i < n; ++i) jSign[i] = out.signs.sign(k * n + i);
       for (int q = 0; q < m && directions > 0; ++q) {
         act.monotoneDirections(nv, offset + q, jSign, dir);
@@ -251,7 +251,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   for (int k = 0; k < n; ++k) {
     if (!wants(k)) continue;
     if (columnsOfRow[k] > 0) out.centreEstimate[k] = atCentre[k] + rest[k].upper();
-    // (onFace only where there are no magnitude terms, i.e. rest = 0.)
+    // (onFace only where there are no secant terms, i.e. rest = 0.)
     const double bound = std::min((Interval(upper[k]) + rest[k]).upper(), onFace[k]);
     out.lower[k] = std::max(out.lower[k], lower[k]);
     if (!(bound < out.upper[k])) continue;
