@@ -382,6 +382,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   s.set("geometry_splits", count(r.stats.geometry_splits));
   s.set("face_switches", count(r.stats.face_switches));
   s.set("face_boxes", count(r.stats.face_boxes));
+  s.set("unenclosed_boxes", count(r.stats.unenclosed_boxes));
   d.set("stats", s);
 
   Node u = Node::object();
@@ -681,7 +682,9 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
 
   const auto& s = r.stats;
   os << "stats:     " << s.boxes << (s.boxes == 1 ? " box in " : " boxes in ") << num(s.seconds, 3) << " s on "
-     << s.threads << " thread" << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth << "\n";
+     << s.threads << " thread" << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth;
+  if (s.unenclosed_boxes > 0) os << "; " << s.unenclosed_boxes << " split without an enclosure";
+  os << "\n";
   if (!info.geometry_parameters.empty()) {
     os << "geometry:  " << info.geometry_parameters.size() << " uncertain parameter"
        << (info.geometry_parameters.size() == 1 ? "" : "s") << ", splitting "

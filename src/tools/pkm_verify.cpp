@@ -53,7 +53,8 @@ void usage(std::ostream& os) {
         "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
         "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
         "                  [--bisection smear|width|round-robin] [--geometry-splitting auto|never|always]\n"
-        "                  [--stall-levels N] [--faces on|off] [--json OUT] [--yaml OUT] [--quiet] [--progress]\n"
+        "                  [--stall-levels N] [--faces on|off] [--skip-hopeless on|off] [--json OUT] [--yaml OUT]\n"
+        "                  [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
         "       pkm_verify --help\n"
         "\n"
@@ -86,6 +87,9 @@ void usage(std::ostream& os) {
         "  --min-width LIST       6 numbers >= 0: boxes narrower than this in every variable are not split (m, m, m,\n"
         "                         rad, rad, rad; default 1e-5 of the workspace's width); with --trajectory one\n"
         "                         number per parameter (u in [0, 1]; u, v, ... for a variety)\n"
+        "  --skip-hopeless on|off split the halves of a box again at once, without enclosing them, when the box's\n"
+        "                         bound minus the split variable's whole share in it is still above 1.1 x the\n"
+        "                         target (default on; only the search order changes)\n"
         "  --threads N            worker threads (default 0: all hardware threads)\n"
         "  --geometry-splitting M with anchor uncertainty: auto (default: a box whose bound stops improving under\n"
         "                         bisection switches from uncertainty as interval coefficients and first-order terms\n"
@@ -165,9 +169,11 @@ Arguments parseArguments(int argc, char** argv) {
   std::string thresholdsText;
   // Options that take a value.
   static const std::vector<std::string> withValue = {
-      "--robot",      "--workspace",          "--thresholds",   "--mode", "--alpha",     "--uncertainty", "--method",
-      "--threads",    "--time-limit",         "--json",         "--yaml", "--max-boxes", "--min-width",   "--bisection",
-      "--trajectory", "--geometry-splitting", "--stall-levels", "--faces"};
+      "--robot",        "--workspace",   "--thresholds",   "--mode",
+      "--alpha",        "--uncertainty", "--method",       "--threads",
+      "--time-limit",   "--json",        "--yaml",         "--max-boxes",
+      "--min-width",    "--bisection",   "--trajectory",   "--geometry-splitting",
+      "--stall-levels", "--faces",       "--skip-hopeless"};
   static const std::vector<std::string> flags = {"--help", "-h", "--list-workspaces", "--quiet", "-q", "--progress"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -263,6 +269,14 @@ Arguments parseArguments(int argc, char** argv) {
         a.options.faces = true;
       } else if (value == "off") {
         a.options.faces = false;
+      } else {
+        badArgument(arg, "expected on or off, got '" + value + "'");
+      }
+    } else if (arg == "--skip-hopeless") {
+      if (value == "on") {
+        a.options.skip_hopeless = true;
+      } else if (value == "off") {
+        a.options.skip_hopeless = false;
       } else {
         badArgument(arg, "expected on or off, got '" + value + "'");
       }

@@ -274,3 +274,43 @@ TEST(Verifier, DerivativeStepKeepsVerdictsAndBrackets) {
   ASSERT_TRUE(r.converged);
   for (int k = 0; k < 6; ++k) EXPECT_GE(r.max_upper[k], maxima[k]) << k;
 }
+
+// VerifierOptions::skip_hopeless changes the search order only: the same verdicts, witnesses that really exceed,
+// brackets that contain the sampled maxima; and on this workspace it does split halves without enclosing them, with
+// fewer boxes in all (1 thread: deterministic counts).
+TEST(Verifier, SkippingHopelessHalvesKeepsVerdictsAndBrackets) {
+  SubWorkspace s(1.0 / 2.0);
+  const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 20000, 13);
+  verify::VerifierOptions o;
+  o.threads = 1;
+  o.thresholds = maxima * 1.05;
+  o.skip_hopeless = false;
+  const auto plain = verify::Verifier::run(s.robot, s.ws, o);
+  o.skip_hopeless = true;
+  const auto skipping = verify::Verifier::run(s.robot, s.ws, o);
+  EXPECT_EQ(plain.verdict, Verdict::Safe) << plain.message;
+  EXPECT_EQ(skipping.verdict, Verdict::Safe) << skipping.message;
+  EXPECT_EQ(plain.stats.unenclosed_boxes, 0u);
+  EXPECT_GT(skipping.stats.unenclosed_boxes, 0u);
+  EXPECT_LT(skipping.stats.boxes, plain.stats.boxes);
+  EXPECT_NEAR(skipping.stats.safe_fraction, 1.0, 1e-9);
+
+  o.thresholds = maxima * 0.95;
+  const auto unsafe = verify::Verifier::run(s.robot, s.ws, o);
+  ASSERT_EQ(unsafe.verdict, Verdict::Unsafe) << unsafe.message;
+  EXPECT_GT(s.robot.worstErrorAt(unsafe.witness)[unsafe.witness_component], o.thresholds[unsafe.witness_component]);
+
+  o.mode = verify::Mode::MaxError;
+  o.thresholds.resize(0);
+  o.alpha = 0.02;
+  const auto r = verify::Verifier::run(s.robot, s.ws, o);
+  ASSERT_TRUE(r.converged);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_GE(r.max_upper[k], maxima[k]) << k;
+    EXPECT_LE(r.max_lower[k], r.max_upper[k]) << k;
+    // The lower bound is attained (independent point evaluation in double).
+    EXPECT_GE(s.robot.worstErrorAt(r.max_argmax[k])[k], r.max_lower[k] * (1.0 - 1e-9)) << k;
+  }
+  std::printf("boxes with / without skipping: %zu / %zu (%zu split unenclosed); max-error %zu boxes\n",
+              skipping.stats.boxes, plain.stats.boxes, skipping.stats.unenclosed_boxes, r.stats.boxes);
+}

@@ -285,6 +285,10 @@ class Run {
     IVec left = box, right = box;
     left[split] = halves.first;
     right[split] = halves.second;
+    if (where == domain::Containment::Inside && !byWidth && hopeless(bounds, split, active) &&
+        splitTwice(left, right, split, depth, bounds, active, next)) {
+      return;
+    }
     descend(left, right, depth, active, next, next);
   }
 
@@ -396,6 +400,50 @@ class Run {
     if (next_.size() + 2 > kMaxFrontier) return false;
     next_.push_back({left, depth, active, first});
     next_.push_back({right, depth, active, second});
+    return true;
+  }
+
+  /// Both halves of a split along `split` certainly miss a target by the optimistic prediction: some component's bound
+  /// minus the whole share of the split variable in it (ErrorBounds::componentSmear, the bisection hints) is still
+  /// above kHopeless times its target. Their enclosures would decide nothing, so splitTwice() splits them again at
+  /// once. (Only a heuristic about the search order: a wrong prediction costs boxes, never soundness.)
+  bool hopeless(const enclosure::ErrorBounds& bounds, int split, unsigned active) const {
+    constexpr double kHopeless = 1.1;
+    if (!options_.skip_hopeless || bounds.componentSmear.rows() != n_ || bounds.componentSmear.cols() != m_)
+      return false;
+    for (int k = 0; k < n_; ++k) {
+      if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
+      if (bounds.upper[k] * (1.0 - bounds.componentSmear(k, split)) > kHopeless * target(k)) return true;
+    }
+    return false;
+  }
+
+  /// The halves of a hopeless() split, each split again without being enclosed, along the variable chooseSplit()
+  /// picks with the hints of the split variable halved (its share of the bound, to first order); the four quarters
+  /// go to process(). Returns false (nothing done) near the round's depth limit or if no variable can be split.
+  bool splitTwice(const IVec& left, const IVec& right, int split, int depth, const enclosure::ErrorBounds& bounds,
+                  unsigned active, const Track& next) {
+    if (depth + 2 >= depthLimit_) return false;
+    enclosure::ErrorBounds halved;
+    halved.upper = bounds.upper;
+    halved.componentSmear = bounds.componentSmear;
+    halved.componentSmear.col(split) *= 0.5;
+    halved.splitScore = bounds.splitScore;
+    if (halved.splitScore.size() == m_) halved.splitScore[split] *= 0.5;
+    double unused = 0.0;
+    const int second = chooseSplit(left, depth + 1, halved, false, active, &unused);
+    if (second < 0) return false;
+    unenclosed_.fetch_add(2, std::memory_order_relaxed);
+    raiseInt(maxDepth_, depth + 1);
+    const auto l = left[second].bisect(), r = right[second].bisect();
+    IVec q[4] = {left, left, right, right};
+    q[0][second] = l.first;
+    q[1][second] = l.second;
+    q[2][second] = r.first;
+    q[3][second] = r.second;
+    tbb::parallel_invoke(
+        [&] { process(q[0], depth + 2, active, next); }, [&] { process(q[1], depth + 2, active, next); },
+        [&] { process(q[2], depth + 2, active, next); }, [&] { process(q[3], depth + 2, active, next); });
     return true;
   }
 
@@ -765,6 +813,7 @@ class Run {
     s.geometry_switches = geometrySwitches_.load();
     s.face_switches = faceSwitches_.load();
     s.face_boxes = faceBoxes_.load();
+    s.unenclosed_boxes = unenclosed_.load();
     s.geometry_splits = geometrySplits_.load();
     return s;
   }
@@ -898,6 +947,7 @@ class Run {
 
   std::atomic<int> stop_{0};
   std::atomic<std::size_t> boxes_{0};
+  std::atomic<std::size_t> unenclosed_{0};
   std::atomic<std::size_t> gradientHits_{0};
   std::atomic<int> maxDepth_{0};
   std::atomic<Clock::rep> nextProgress_{0};

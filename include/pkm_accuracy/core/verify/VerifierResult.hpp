@@ -47,6 +47,9 @@ struct Statistics {
   /// bisection), and the boxes enclosed that way.
   std::size_t face_switches = 0;
   std::size_t face_boxes = 0;
+  /// Boxes split without being enclosed, because the enclosure of the box they came from predicted that they could
+  /// not be decided (VerifierOptions::skip_hopeless; not counted in `boxes`).
+  std::size_t unenclosed_boxes = 0;
 };
 
 struct Progress {
