@@ -48,6 +48,12 @@ std::string methodList() {
   return list;
 }
 
+/// The value of an on|off option (throws through badArgument() otherwise).
+bool onOff(const std::string& arg, const std::string& value) {
+  if (value != "on" && value != "off") badArgument(arg, "expected on or off, got '" + value + "'");
+  return value == "on";
+}
+
 void usage(std::ostream& os) {
   os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE | --trajectory FILE] [--thresholds dx,dy,dz,rx,ry,rz]\n"
         "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
@@ -265,21 +271,9 @@ Arguments parseArguments(int argc, char** argv) {
         badArgument(arg, "expected auto, never or always, got '" + value + "'");
       }
     } else if (arg == "--faces") {
-      if (value == "on") {
-        a.options.faces = true;
-      } else if (value == "off") {
-        a.options.faces = false;
-      } else {
-        badArgument(arg, "expected on or off, got '" + value + "'");
-      }
+      a.options.faces = onOff(arg, value);
     } else if (arg == "--skip-hopeless") {
-      if (value == "on") {
-        a.options.skip_hopeless = true;
-      } else if (value == "off") {
-        a.options.skip_hopeless = false;
-      } else {
-        badArgument(arg, "expected on or off, got '" + value + "'");
-      }
+      a.options.skip_hopeless = onOff(arg, value);
     } else if (arg == "--stall-levels") {
       a.options.stall_levels = static_cast<int>(tools::parseCount(arg, value, kMaxStallLevels));
     } else if (arg == "--json") {

@@ -787,12 +787,15 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   }
   EXPECT_GE(narrowed, 1u);
 
-  j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "5e-4",
-               "--threads", "1", "--geometry-splitting", "never", "--faces", "off", "--max-boxes", "20000"},
-              0);
+  j = runJson(
+      {"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "5e-4", "--threads",
+       "1", "--geometry-splitting", "never", "--faces", "off", "--skip-hopeless", "off", "--max-boxes", "20000"},
+      0);
   EXPECT_EQ(j["verdict"].str(), "SAFE");  // strategy (a) alone decides this one
   EXPECT_EQ(j["geometry_splitting"].str(), "never");
   EXPECT_FALSE(j["faces"].boolean);
+  EXPECT_FALSE(j["skip_hopeless"].boolean);
+  EXPECT_EQ(j["stats"]["unenclosed_boxes"].num(), 0.0);
   EXPECT_EQ(j["stats"]["face_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["face_boxes"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
@@ -875,6 +878,7 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting="}, {"--geometry-splitting", "''"}},
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting"}, {"--geometry-splitting", "missing value"}},
       {{"--robot", kRef6, "--thresholds", t6, "--faces", "maybe"}, {"--faces", "maybe", "on or off"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--skip-hopeless", "1"}, {"--skip-hopeless", "'1'", "on or off"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "-1"}, {"--stall-levels", "-1"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "2.5"}, {"--stall-levels", "2.5"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "5000"}, {"--stall-levels", "<= 1000", "5000"}},
