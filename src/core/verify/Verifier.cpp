@@ -406,10 +406,12 @@ class Run {
   /// Both halves of a split along `split` certainly miss a target by the optimistic prediction: some component's bound
   /// minus the whole share of the split variable in it (ErrorBounds::componentSmear, the bisection hints) is still
   /// above kHopeless times its target. Their enclosures would decide nothing, so splitTwice() splits them again at
-  /// once. (Only a heuristic about the search order: a wrong prediction costs boxes, never soundness.)
+  /// once. (Only a heuristic about the search order: a wrong prediction costs boxes, never soundness.) Only for
+  /// domains of at least 3 variables: with fewer, each split narrows a larger part of the box and the remainder drops
+  /// faster than the first-order shares say (a 1-variable trajectory split more boxes with it: bench/RESULTS.md).
   bool hopeless(const enclosure::ErrorBounds& bounds, int split, unsigned active) const {
     constexpr double kHopeless = 1.1;
-    if (!options_.skip_hopeless || bounds.componentSmear.rows() != n_ || bounds.componentSmear.cols() != m_)
+    if (!options_.skip_hopeless || m_ < 3 || bounds.componentSmear.rows() != n_ || bounds.componentSmear.cols() != m_)
       return false;
     for (int k = 0; k < n_; ++k) {
       if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;

@@ -83,7 +83,8 @@ struct VerifierOptions {
   /// neither can be decided: some component's bound, minus the whole share of the split variable in it (the smear
   /// hints), is still above 1.1 times its target (threshold; in max-error mode the lower bound plus the tolerance).
   /// Only the search order changes (Statistics::unenclosed_boxes counts them); paper workspace, 1.05 x the maxima:
-  /// 10-15% fewer boxes (bench/RESULTS.md). False encloses every box.
+  /// 10-15% fewer boxes (bench/RESULTS.md). Only on domains of at least 3 variables (not on trajectories or
+  /// 2-parameter varieties). False encloses every box.
   bool skip_hopeless = true;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
