@@ -49,6 +49,23 @@ void expectRealWitness(const SubWorkspace& s, const verify::VerifierOptions& o) 
   EXPECT_GT(s.robot.worstErrorAt(unsafe.witness)[k], o.thresholds[k]);
 }
 
+/// Runs `o` in max-error mode to `alpha` and checks the bracket: converged, above the sampled maxima, its lower end
+/// attained (independent point evaluation in double). Returns the boxes it took.
+std::size_t expectBracketHolds(const SubWorkspace& s, verify::VerifierOptions o, const DVec& maxima, double alpha) {
+  o.mode = verify::Mode::MaxError;
+  o.thresholds.resize(0);
+  o.alpha = alpha;
+  const auto r = verify::Verifier::run(s.robot, s.ws, o);
+  EXPECT_TRUE(r.converged);
+  if (!r.converged) return r.stats.boxes;
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_GE(r.max_upper[k], maxima[k]) << k;
+    EXPECT_LE(r.max_lower[k], r.max_upper[k]) << k;
+    EXPECT_GE(s.robot.worstErrorAt(r.max_argmax[k])[k], r.max_lower[k] * (1.0 - 1e-9)) << k;
+  }
+  return r.stats.boxes;
+}
+
 }  // namespace
 
 TEST(Verifier, SafeTenPercentAboveSampledMaximaUnsafeFivePercentBelow) {
@@ -274,12 +291,7 @@ TEST(Verifier, DerivativeStepKeepsVerdictsAndBrackets) {
   EXPECT_EQ(verify::Verifier::run(s.robot, s.ws, o).verdict, Verdict::Safe);
   o.thresholds = maxima * 0.95;
   expectRealWitness(s, o);
-  o.mode = verify::Mode::MaxError;
-  o.thresholds.resize(0);
-  o.alpha = 0.05;
-  const auto r = verify::Verifier::run(s.robot, s.ws, o);
-  ASSERT_TRUE(r.converged);
-  for (int k = 0; k < 6; ++k) EXPECT_GE(r.max_upper[k], maxima[k]) << k;
+  expectBracketHolds(s, o, maxima, 0.05);
 }
 
 // VerifierOptions::skip_hopeless changes the search order only: the same verdicts, witnesses that really exceed,
@@ -305,17 +317,7 @@ TEST(Verifier, SkippingHopelessHalvesKeepsVerdictsAndBrackets) {
   o.thresholds = maxima * 0.95;
   expectRealWitness(s, o);
 
-  o.mode = verify::Mode::MaxError;
-  o.thresholds.resize(0);
-  o.alpha = 0.02;
-  const auto r = verify::Verifier::run(s.robot, s.ws, o);
-  ASSERT_TRUE(r.converged);
-  for (int k = 0; k < 6; ++k) {
-    EXPECT_GE(r.max_upper[k], maxima[k]) << k;
-    EXPECT_LE(r.max_lower[k], r.max_upper[k]) << k;
-    // The lower bound is attained (independent point evaluation in double).
-    EXPECT_GE(s.robot.worstErrorAt(r.max_argmax[k])[k], r.max_lower[k] * (1.0 - 1e-9)) << k;
-  }
+  const std::size_t maxErrorBoxes = expectBracketHolds(s, o, maxima, 0.02);
   std::printf("boxes with / without skipping: %zu / %zu (%zu split unenclosed); max-error %zu boxes\n",
-              skipping.stats.boxes, plain.stats.boxes, skipping.stats.unenclosed_boxes, r.stats.boxes);
+              skipping.stats.boxes, plain.stats.boxes, skipping.stats.unenclosed_boxes, maxErrorBoxes);
 }
