@@ -186,6 +186,7 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
   out.geometry_splits = r.stats.geometry_splits;
   out.face_switches = r.stats.face_switches;
   out.face_boxes = r.stats.face_boxes;
+  out.unenclosed_boxes = r.stats.unenclosed_boxes;
   out.sensitive_poses = r.sensitive_count;
   if (!r.sensitive.empty()) {
     const verify::SensitivePose& p = r.sensitive.front();

@@ -116,6 +116,7 @@ void fillCommonResponse(const Outcome& o, Response& res) {
   res.geometry_splits = o.geometry_splits;
   res.face_switches = o.face_switches;
   res.face_boxes = o.face_boxes;
+  res.unenclosed_boxes = o.unenclosed_boxes;
   res.sensitive_poses = o.sensitive_poses;
   const SensitiveSummary& s = o.sensitive;
   res.sensitive_component = s.component;
