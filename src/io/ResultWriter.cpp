@@ -302,6 +302,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("stall_levels", Node::integer(o.stall_levels));
   d.set("faces", Node::boolean(o.faces));
   d.set("skip_hopeless", Node::boolean(o.skip_hopeless));
+  d.set("geometry_form", Node::string(o.decompose_geometry ? "decomposed" : "combined"));
   d.set("geometry_parameters", info.geometry_parameters.empty() ? Node() : strings(info.geometry_parameters));
 
   const bool witness = hasWitness(r);

@@ -59,7 +59,8 @@ void usage(std::ostream& os) {
         "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
         "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
         "                  [--bisection smear|width|round-robin] [--geometry-splitting auto|never|always]\n"
-        "                  [--stall-levels N] [--faces on|off] [--skip-hopeless on|off] [--json OUT] [--yaml OUT]\n"
+        "                  [--stall-levels N] [--faces on|off] [--skip-hopeless on|off]\n"
+        "                  [--geometry-form combined|decomposed] [--json OUT] [--yaml OUT]\n"
         "                  [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
         "       pkm_verify --help\n"
@@ -97,6 +98,9 @@ void usage(std::ostream& os) {
         "                         bound minus the split variable's whole share in it is still above 1.1 x the\n"
         "                         target (default on; domains of 3 or more variables; only the search order\n"
         "                         changes)\n"
+        "  --geometry-form F      with anchor uncertainty: combined (default: one expansion in the pose and the\n"
+        "                         geometry) or decomposed (the nominal error plus a separate bound of its increase\n"
+        "                         over the geometry; no faces); both rigorous\n"
         "  --threads N            worker threads (default 0: all hardware threads)\n"
         "  --geometry-splitting M with anchor uncertainty: auto (default: a box whose bound stops improving under\n"
         "                         bisection switches from uncertainty as interval coefficients and first-order terms\n"
@@ -176,11 +180,11 @@ Arguments parseArguments(int argc, char** argv) {
   std::string thresholdsText;
   // Options that take a value.
   static const std::vector<std::string> withValue = {
-      "--robot",        "--workspace",   "--thresholds",   "--mode",
-      "--alpha",        "--uncertainty", "--method",       "--threads",
-      "--time-limit",   "--json",        "--yaml",         "--max-boxes",
-      "--min-width",    "--bisection",   "--trajectory",   "--geometry-splitting",
-      "--stall-levels", "--faces",       "--skip-hopeless"};
+      "--robot",        "--workspace",   "--thresholds",    "--mode",
+      "--alpha",        "--uncertainty", "--method",        "--threads",
+      "--time-limit",   "--json",        "--yaml",          "--max-boxes",
+      "--min-width",    "--bisection",   "--trajectory",    "--geometry-splitting",
+      "--stall-levels", "--faces",       "--skip-hopeless", "--geometry-form"};
   static const std::vector<std::string> flags = {"--help", "-h", "--list-workspaces", "--quiet", "-q", "--progress"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -275,6 +279,14 @@ Arguments parseArguments(int argc, char** argv) {
       a.options.faces = onOff(arg, value);
     } else if (arg == "--skip-hopeless") {
       a.options.skip_hopeless = onOff(arg, value);
+    } else if (arg == "--geometry-form") {
+      if (value == "combined") {
+        a.options.decompose_geometry = false;
+      } else if (value == "decomposed") {
+        a.options.decompose_geometry = true;
+      } else {
+        badArgument(arg, "expected combined or decomposed, got '" + value + "'");
+      }
     } else if (arg == "--stall-levels") {
       a.options.stall_levels = static_cast<int>(tools::parseCount(arg, value, kMaxStallLevels));
     } else if (arg == "--json") {

@@ -795,11 +795,26 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   EXPECT_EQ(j["geometry_splitting"].str(), "never");
   EXPECT_FALSE(j["faces"].boolean);
   EXPECT_FALSE(j["skip_hopeless"].boolean);
+  EXPECT_EQ(j["geometry_form"].str(), "combined");
   EXPECT_EQ(j["stats"]["unenclosed_boxes"].num(), 0.0);
   EXPECT_EQ(j["stats"]["face_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["face_boxes"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_splits"].num(), 0.0);
+
+  // --geometry-form: dx 0.1% above its maximum, both forms certify it, with different searches (measured: 7 and 29
+  // boxes).
+  std::vector<double> looser = thresholds;
+  looser[0] = 1.1345e-4;
+  Json forms[2];
+  for (int f = 0; f < 2; ++f) {
+    forms[f] = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(looser), "--uncertainty", "5e-4",
+                        "--threads", "1", "--geometry-form", f == 0 ? "combined" : "decomposed"},
+                       0);
+    EXPECT_EQ(forms[f]["verdict"].str(), "SAFE");
+    EXPECT_EQ(forms[f]["geometry_form"].str(), f == 0 ? "combined" : "decomposed");
+  }
+  EXPECT_NE(forms[0]["stats"]["boxes"].num(), forms[1]["stats"]["boxes"].num());
 }
 
 TEST_F(CliTest, MaxErrorWithUncertaintyNamesTheWorstGeometry) {
@@ -879,6 +894,8 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting"}, {"--geometry-splitting", "missing value"}},
       {{"--robot", kRef6, "--thresholds", t6, "--faces", "maybe"}, {"--faces", "maybe", "on or off"}},
       {{"--robot", kRef6, "--thresholds", t6, "--skip-hopeless", "1"}, {"--skip-hopeless", "'1'", "on or off"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--geometry-form", "split"},
+       {"--geometry-form", "'split'", "combined or decomposed"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "-1"}, {"--stall-levels", "-1"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "2.5"}, {"--stall-levels", "2.5"}},
       {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "5000"}, {"--stall-levels", "<= 1000", "5000"}},

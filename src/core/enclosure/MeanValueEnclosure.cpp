@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
+#include "pkm_accuracy/core/enclosure/GeometryIncrement.hpp"
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
 
 namespace pkm_accuracy {
@@ -15,6 +16,9 @@ namespace {
 /// At most this many faces per row and box, each on the smaller face the previous one certified (on the probe's
 /// small boxes, bench/uncertainty_probe, the bound stops improving after 2-3).
 constexpr int kFaceIterations = 4;
+
+/// A non-negative quantity computed in double (a few sums): up() bounds the exact one.
+inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
 
 /// Second-order bound of f_k from the affine forms of N V (AffineInverseAction). With uncertain geometry parameters
 /// the geometry enters as first-order terms too; with an exact geometry the expansion is in the box variables only
@@ -37,10 +41,26 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   static thread_local AffineInverseAction act;
   static thread_local AffineInverseAction::AffineMatrix jac, nv;
   static thread_local AffineInverseAction::Combination comb;
-  if (!act.prepare(model, box, model.hasGeometryUncertainty())) return false;
+  static thread_local GeometryIncrement increment;
+  static thread_local GeometryIncrement::Row incrementRow;
   const int n = model.dof();
   const int vars = box.variables;
+  // The decomposed geometry form: the nominal expansion (no geometry terms) plus GeometryIncrement's bound of the
+  // increase over the geometry; the combined form where it cannot be built.
+  bool decomposed = model.hasGeometryUncertainty() && box.decomposeGeometry && vars == n;
+  if (decomposed) {
+    decomposed = act.prepare(model, box, false);
+    if (decomposed) {
+      const DMat& c0 = act.preconditioner();
+      IMat all(n, n);
+      for (int j = 0; j < n; ++j)
+        for (int l = 0; l < n; ++l) all(l, j) = Interval(c0(l, j));
+      decomposed = act.apply(all, jac, true) && increment.prepare(model, box, jac);
+    }
+  }
+  if (!decomposed && !act.prepare(model, box, model.hasGeometryUncertainty())) return false;
   const int params = act.parameters();
+  const int modelParams = decomposed ? model.geometryParameterCount() : params;
   const DMat& c = act.preconditioner();
   // Only the rows (components) asked for (`rows`): the others keep +inf.
   // J = N C, column by column, for the columns with an entry of a wanted row whose sign is not known yet (from a
@@ -51,7 +71,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   for (int j = 0; j < n; ++j) {
     bool all = true;
     for (int k = 0; k < n; ++k) all = all && (known.known(k * n + j) || !wants(k));
-    if (!all) need[needed++] = j;
+    if (!all || decomposed) need[needed++] = j;
   }
   // Entries not computed (columns not needed, unknown sign): [-1, 1] stands for "sign unknown"; only signs are read
   // from entries of rows that are not wanted.
@@ -62,9 +82,13 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     IMat cols(n, needed);
     for (int q = 0; q < needed; ++q)
       for (int l = 0; l < n; ++l) cols(l, q) = Interval(c(l, need[q]));
-    if (!act.apply(cols, jac)) return false;
+    if (!decomposed && !act.apply(cols, jac)) return false;  // (decomposed: all the columns, computed above)
+    // (Decomposed: the ranges over every geometry, J0_kj +- DJ_kj, for the signs and the secants below.)
     for (int q = 0; q < needed; ++q)
-      for (int k = 0; k < n; ++k) entryOf[k][need[q]] = jac.entry(k, q);
+      for (int k = 0; k < n; ++k)
+        entryOf[k][need[q]] = jac.entry(k, q) + (decomposed ? Interval(-increment.entryIncrease(k, need[q]),
+                                                                       increment.entryIncrease(k, need[q]))
+                                                            : Interval(0.0));
   }
   out.signs = SignPattern();
   for (int k = 0; k < n; ++k)
@@ -82,6 +106,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   struct Column {
     int row;
     IVec v;
+    double w[kMaxDof];  ///< v = C w
   };
   static thread_local std::vector<Column> columns;
   columns.clear();
@@ -138,7 +163,8 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     for (int index = 0; index < (1 << opened); ++index) {
       const int choice = index ^ preferred;
       for (int q = 0; q < opened; ++q) w[open[q]] = (choice & (1 << q)) ? -e[open[q]] : e[open[q]];
-      Column col{k, IVec::Constant(n, Interval(0.0))};
+      Column col{k, IVec::Constant(n, Interval(0.0)), {}};
+      for (int j = 0; j < n; ++j) col.w[j] = w[j];
       for (int j = 0; j < n; ++j) {
         if (w[j] == 0.0) continue;
         for (int l = 0; l < n; ++l) col.v[l] += Interval(c(l, j)) * Interval(w[j]);
@@ -148,11 +174,12 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     }
   }
   out.componentSmear = DMat::Zero(n, vars);
-  out.geometrySmear = GMat::Zero(n, params);
-  out.geometrySensitivity = GMat::Zero(n, params);
+  out.geometrySmear = GMat::Zero(n, modelParams);
+  out.geometrySensitivity = GMat::Zero(n, modelParams);
   double upper[kMaxDof], lower[kMaxDof];
   bool missed[kMaxDof];  // a column of the row has missed its target (BoxInput::targets) already
   static thread_local AffineInverseAction::Combination best[kMaxDof];
+  static thread_local double bestCoefficient[kMaxDof][kMaxGeometryParameters];  // (decomposed: geometry hints)
   double atCentre[kMaxDof];  // the largest column's value estimate at the box centre (not certified)
   for (int k = 0; k < n; ++k) {
     upper[k] = -std::numeric_limits<double>::infinity();
@@ -199,15 +226,39 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       for (int q = offset; q < offset + m; ++q) {
         for (int j = 0; j < batchSize; ++j) unit[j] = j == q ? 1.0 : 0.0;
         AffineInverseAction::combine(nv, k, unit, comb);
+        double first = 0.0;
+        const double centreAtG0 = comb.centre;
+        if (decomposed) {
+          // f_k(t, g) <= sum_j w_j J_kj(t, g) + rest[k] (the signs and secants above hold over J's range over every
+          // geometry) = (this column at g0) + e_k^T Delta J w: the increment's linear part joins the column's, its
+          // constant goes to the radius.
+          GeometryIncrement::Row& r = incrementRow;
+          GeometryIncrement::Form w[kMaxDof];
+          for (int l = 0; l < n; ++l) {
+            double a[kMaxDof];
+            for (int i = 0; i < kMaxDof; ++i) a[i] = i < vars ? nv.pose[i](l, q) : 0.0;
+            w[l] = GeometryIncrement::Form::fromParts(nv.centre(l, q), a, nv.radius(l, q));
+          }
+          if (!increment.bound(k, w, r)) return false;
+          const double lowerAtG0 = comb.lower();
+          double err = std::abs(comb.centre) + std::abs(r.linear.centre());
+          comb.centre += r.linear.centre();
+          for (int i = 0; i < vars; ++i) {
+            err += std::abs(comb.pose[i]) + std::abs(r.linear.coefficient(i));
+            comb.pose[i] += r.linear.coefficient(i);
+          }
+          comb.radius = up(comb.radius + r.linear.radius() + r.constant + 1e-15 * err);
+          lower[k] = std::max(lower[k], interval::rounding::subDown(lowerAtG0, r.magnitude));
+          for (int p = 0; p < r.params; ++p) first += std::abs(r.coefficient[p]);
+        }
         // At the box centre, over the geometries: the first-order terms' maximum G, plus G^2 / value for the
         // second-order ones (measured: ~1.3% of f_k at +-1 mm, where G is 10-18% of it; G itself for a column whose
         // value is not positive, a sign choice far from the row's maximum).
-        double first = 0.0;
         for (int p = 0; p < comb.params; ++p) first += std::abs(comb.geometry[p]);
-        const double second = comb.centre > first ? first * first / comb.centre : first;
-        const double estimate = comb.centre + first + second;
+        const double second = centreAtG0 > first ? first * first / centreAtG0 : first;
+        const double estimate = centreAtG0 + first + second;
         atCentre[k] = std::max(atCentre[k], estimate);
-        lower[k] = std::max(lower[k], comb.lower());  // |x| e >= w x for every |w| <= e
+        if (!decomposed) lower[k] = std::max(lower[k], comb.lower());  // |x| e >= w x for every |w| <= e
         // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target,
         // unless an earlier column of the row has missed it already (the row is undecided whatever this one gives).
         double columnUpper = comb.upper();
@@ -217,6 +268,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         if (columnUpper > upper[k]) {
           upper[k] = columnUpper;
           best[k] = comb;
+          for (int p = 0; p < modelParams && decomposed; ++p) bestCoefficient[k][p] = incrementRow.coefficient[p];
         }
       }
       // Only where the bound is not good enough already (BoxInput::targets), f_k has no secant terms, and every
@@ -267,6 +319,10 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     for (int p = 0; p < params; ++p) {
       out.geometrySmear(k, p) = std::abs(best[k].geometry[p]) / bound;
       out.geometrySensitivity(k, p) = best[k].geometry[p];
+    }
+    for (int p = 0; p < modelParams && decomposed; ++p) {
+      out.geometrySmear(k, p) = std::abs(bestCoefficient[k][p]) / bound;
+      out.geometrySensitivity(k, p) = bestCoefficient[k][p];
     }
   }
   if (largest > 0.0) {

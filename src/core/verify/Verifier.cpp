@@ -154,6 +154,7 @@ class Run {
     in.knownSigns = track.signs;
     in.faces = track.faces;
     in.useFaces = track.useFaces;
+    in.decomposeGeometry = options_.decompose_geometry;
     in.rows = active;  // components decided on a containing box need no bound here
     in.targets.resize(n_);
     for (int k = 0; k < n_; ++k) in.targets[k] = target(k);

@@ -47,6 +47,15 @@ class AffineForm {
     return f;
   }
 
+  /// The form c + sum_m a[m] tau_m + [-r, r] exactly as given (r >= 0; NaN r if it is not): the caller guarantees
+  /// that it encloses what it stands for (e.g. the entries of another affine representation over the same symbols).
+  static AffineForm fromParts(double c, const double* a, double r) {
+    AffineForm f;
+    f.c_ = c;
+    for (int m = 0; m < N; ++m) f.a_[m] = a[m];
+    f.r_ = r >= 0.0 ? r : std::nan("");
+    return f;
+  }
   double centre() const { return c_; }
   double coefficient(int m) const { return a_[m]; }
   double radius() const { return r_; }

@@ -86,6 +86,13 @@ struct VerifierOptions {
   /// 10-15% fewer boxes (bench/RESULTS.md). Only on domains of at least 3 variables (not on trajectories or
   /// 2-parameter varieties). False encloses every box.
   bool skip_hopeless = true;
+  /// Geometric uncertainty, second_order method, workspace boxes: bound the nominal error and its increase over the
+  /// geometry separately (enclosure::GeometryIncrement, "decomposed") instead of one expansion around the pose and
+  /// the geometry together ("combined", the default). Both are rigorous; the decomposed form gives no monotone
+  /// geometry directions (so no faces), needs the model's affine geometry derivatives (anchors, not the tool point:
+  /// else the combined form runs), and measured about as many boxes, a little slower (bench/RESULTS.md, "Session
+  /// 19").
+  bool decompose_geometry = false;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
 };

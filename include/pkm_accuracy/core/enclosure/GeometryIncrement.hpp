@@ -1,0 +1,98 @@
+// The increase of the worst error f_k over the nominal geometry, bounded separately from the nominal error
+// ("decomposed" geometry form, docs/uncertainty.md).
+//
+// With J0 = J(t, g0) (nominal geometry g0, the centre of the geometry box), J = J(t, g) and Delta J = J - J0: where
+// J_kj keeps a sign s_j over the pose box Q and every geometry, e_j |J_kj| = e_j |J0_kj| + s_j e_j Delta J_kj, and
+// elsewhere e_j |J_kj| <= e_j |J0_kj| + e_j |Delta J_kj|. So for every (t, g) of Q x G
+//   f_k(t, g) <= f_k(t, g0) + e_k^T Delta J u + sum_{j unstable} e_j |Delta J_kj|,   u_j = s_j e_j (stable j, else 0),
+// and the first term is bounded by the nominal form (AffineInverseAction without geometry). With M = J^-1 and
+// Delta M = M(t, g) - M(t, g0), whose row i depends on leg i's parameters only (delta r_i, the anchor coordinates of
+// leg i), J = J0 - J0 Delta M J gives exactly
+//   e_k^T Delta J u = - sum_i J0_ki (delta r_i . w) + sum_{i,i'} J0_ki (delta r_i . J0_{.,i'}) (delta r_i' . y),
+//   w = J0 u, y = J u,  delta r_i = sum_{p of row i} (g_p - g0_p) dbar_p,  dbar_p = int_0^1 d_p(t, g0 + s (g - g0)) ds,
+// d_p the derivative of row i of J^-1 with respect to parameter p, enclosed over Q and every geometry by the model's
+// affine forms in the pose (GeometryRowDerivative::affine), so dbar_p too. The first sum is sum_p gamma_p h_p b_p(t),
+// b_p = -J0_{k,i(p)} (dbar_p . w), an affine form in the pose symbols tau of the box (the products of the J0 entries'
+// affine forms, from the nominal AffineInverseAction, with those of dbar_p): its maximum over gamma is
+// sum_p h_p |b_p|, bounded by the secant of |x| over b_p's range, a linear form in tau plus a constant. The linear
+// part joins the nominal bound's own linear part (the same tau), so the pose slopes of the nominal error and of its
+// geometry increase cancel where they do. The second sum is bounded by sum_i |J0_ki| sum_i' A_ii' B_i',
+// A_ii' >= sum_{p of row i} h_p |dbar_p . J0_{.,i'}|, B_i' >= sum_{q of row i'} h_q |dbar_q . y| (the dot products keep
+// their cancellations), |dbar_q . y| <= |dbar_q . w| + |dbar_q| |Delta J u|, and |Delta J| <= DJ, the verified fixed
+// point of |J0| A + |J0| |Delta M| DJ (Delta J = -J0 Delta M J0 - J0 Delta M Delta J), which also decides which entries
+// keep their signs over Q x G (|J0_kj| > DJ_kj) and bounds the others' e_j |Delta J_kj|.
+//
+// Why: the combined form (AffineInverseAction with the geometry) expands N = (C J^-1(t, g))^-1 around the pose AND
+// the geometry at once, so its remainder carries the products of pose and geometry deviations through the inverse
+// (|L S y|, |S L y|, |L L y|, ...), each bounded in magnitude; here the nominal part keeps the nominal remainder and
+// the geometry part is exact to first order in the geometry with a remainder of second order in h. With the
+// increment known exactly to first order (an unsound point estimate, bench/patches/point_increment_oracle.patch) the
+// search would need fewer boxes at +-1 mm than the nominal case; as built, the radii of the affine forms of J0 and
+// w (the nominal expansion's pose remainder) enter the strongly cancelling dot products dbar_p . w in magnitude, and
+// it needs about as many boxes as the combined form (bench/RESULTS.md, "Session 19"). Hence an option
+// (VerifierOptions::decompose_geometry), not the default.
+//
+// Rounding: the affine forms' arithmetic (interval::AffineForm) is rigorous; the non-negative bounds are sums of
+// products computed in double and rounded up with a relative margin of 1e-12 (sums of at most 64 products have
+// relative error below 1.5e-14).
+#pragma once
+
+#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
+#include "pkm_accuracy/core/interval/AffineForm.hpp"
+
+namespace pkm_accuracy {
+namespace enclosure {
+
+class GeometryIncrement {
+ public:
+  using Form = interval::AffineForm<kMaxDof>;
+
+  /// The bound of e_k^T (J(t, g) - J(t, g0)) u over the box and every geometry, for one component k and weights u:
+  ///   e_k^T Delta J u <= linear(tau) + constant,  |e_k^T Delta J u| <= magnitude,
+  /// tau the pose symbols of the nominal AffineInverseAction's forms (tau_i = (t_i - t0_i) / |t_i - t0_i|max).
+  struct Row {
+    Form linear;
+    double constant = 0.0;   ///< secant offsets and the second-order sum (>= 0, rounded up)
+    double magnitude = 0.0;  ///< (for lower bounds valid for every geometry)
+    /// Centre of the coefficient of gamma_p = (g_p - g0_p) / h_p in the first-order part (hints; not certified).
+    double coefficient[kMaxGeometryParameters];
+    int params = 0;
+  };
+
+  /// Builds the parts shared by the rows for a box: j0 are the affine forms of J0 = N C over the box (all n columns
+  /// of C, from AffineInverseAction::apply after prepare(model, box, false)).
+  /// @return false if it cannot be built (then the caller uses the combined form): the box variables are not the
+  /// pose coordinates with the centre at the box midpoint, the model gives no affine geometry derivatives for every
+  /// entry, or the fixed point for |Delta J| does not verify.
+  bool prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction::AffineMatrix& j0);
+
+  /// The increase of sum_j u_j J_kj(t, g) over its value at g0, e_k^T Delta J u, bounded over the box and every
+  /// geometry, for weights u given by w = J0 u (the affine forms of the column N C u of the nominal expansion, all
+  /// n rows; |u_j| <= e_j for the bounds of f_k). Valid after prepare().
+  /// @return false if a bound is not finite.
+  bool bound(int k, const Form* w, Row& out) const;
+
+  /// DJ_kj >= |J_kj(t, g) - J_kj(t, g0)| over the box and every geometry (valid after prepare()).
+  double entryIncrease(int k, int j) const { return dj_[k][j]; }
+
+  /// The signs of J certified over the box and every geometry by |J0_kj| > DJ_kj (valid after prepare()).
+  const SignPattern& signs() const { return signs_; }
+
+ private:
+  int n_ = 0, params_ = 0, entries_ = 0;
+  std::vector<double> e_;
+  double h_[kMaxGeometryParameters];
+  int param_[GeometryDerivatives::kCapacity], row_[GeometryDerivatives::kCapacity];
+  double entryH_[GeometryDerivatives::kCapacity];
+  Form j0_[kMaxDof][kMaxDof];                             ///< J0 entries over the box
+  double magJ0_[kMaxDof][kMaxDof];                        ///< >= |J0| over the box
+  Form d_[GeometryDerivatives::kCapacity][kMaxDof];       ///< dbar_e, per entry e and component
+  double magD_[GeometryDerivatives::kCapacity][kMaxDof];  ///< >= |dbar_e|
+  double a_[kMaxDof][kMaxDof];                            ///< A
+  double dj_[kMaxDof][kMaxDof];                           ///< DJ >= |Delta J|
+  double ybar_[kMaxDof][kMaxDof];                         ///< >= |Delta M J|
+  SignPattern signs_;
+};
+
+}  // namespace enclosure
+}  // namespace pkm_accuracy
