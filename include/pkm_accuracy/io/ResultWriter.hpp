@@ -11,16 +11,16 @@
 //   variables (names), components (["dx", "dy", "dz", "rx", "ry", "rz"]), units (["m", "m", "m", "rad", ...]),
 //   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty, max_boxes, time_limit,
 //   min_width, geometry_splitting ("auto" | "never" | "always"), stall_levels (0 = number of box variables), faces
-//   (bool), skip_hopeless (bool), geometry_form ("combined" | "decomposed"), geometry_parameters (names of the uncertain geometry parameters, e.g.
-//   "platform_anchors[3].z", in the order of the model's parameters; null without geometric uncertainty), witness (the
-//   pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the domain's variables), witness_component
-//   (index), witness_component_name, witness_lower_bound, witness_error_lower ([6] or null), sensitive_count
-//   (uncertainty-sensitive poses found: some admissible geometry exceeds a threshold there, none was shown to exceed
-//   for every geometry), sensitive (the first ones, at most max_listed_boxes: [{point (domain variables), pose ([6],
-//   midpoints of its enclosure), region (the search box [[lo, hi] x variables]), component, component_name,
-//   failing_lower, failing_geometry ({parameter name: value}), passing_geometry ({name: value} or null), passing_upper
-//   (or null), passes_all, t and region_t (trajectories: s; else null)}]), max_error: {lower: [6], upper: [6],
-//   converged, argmax: [[...] per component or null]
+//   (bool), skip_hopeless (bool), geometry_form ("combined" | "decomposed"), geometry_parameters (names of the
+//   uncertain geometry parameters, e.g. "platform_anchors[3].z", in the order of the model's parameters; null without
+//   geometric uncertainty), witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the
+//   domain's variables), witness_component (index), witness_component_name, witness_lower_bound, witness_error_lower
+//   ([6] or null), sensitive_count (uncertainty-sensitive poses found: some admissible geometry exceeds a threshold
+//   there, none was shown to exceed for every geometry), sensitive (the first ones, at most max_listed_boxes: [{point
+//   (domain variables), pose ([6], midpoints of its enclosure), region (the search box [[lo, hi] x variables]),
+//   component, component_name, failing_lower, failing_geometry ({parameter name: value}), passing_geometry ({name:
+//   value} or null), passing_upper (or null), passes_all, t and region_t (trajectories: s; else null)}]), max_error:
+//   {lower: [6], upper: [6], converged, argmax: [[...] per component or null]
 //               (trajectories: also argmax_t, the time of every argmax in s), argmax_geometry ({parameter name:
 //               value} per component, the geometry attaining lower at argmax; null entries where the bound holds
 //               for every geometry; null without geometric uncertainty)} in max-error mode,
