@@ -191,15 +191,6 @@ bool fixedPoint(const A& a, const A& approx, const R& rhs, R& z) {
   return false;
 }
 
-/// The box variables are the pose coordinates themselves (pose_i = t_i, as for workspace boxes).
-bool identityPoseMap(const BoxInput& box, int n) {
-  if (!box.hasGradient || box.variables != n) return false;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < kMaxDof; ++j)
-      if (box.dualPose[i].d(j) != Interval(i == j ? 1.0 : 0.0)) return false;
-  return true;
-}
-
 }  // namespace
 
 bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box, bool withGeometry) {
@@ -233,7 +224,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   static thread_local MatrixHessian hessian, atCentre;
   static thread_local MatrixWithGradient poseD;
   static thread_local std::array<DMat, MatrixHessian::kPairs> hm, hr;  // C H_il(box), midpoint and radius
-  bool centred = vars_ == n_ && identityPoseMap(box, n_) &&
+  bool centred = vars_ == n_ && box.variablesArePose(n_) &&
                  model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian) &&
                  model.inverseJacobianHessianAtGeometryCentre(box.centrePose, atCentre, false);
   for (int i = 0; i < vars_ && centred; ++i) centred = hessian.first[i].rows() == n_ && atCentre.first[i].rows() == n_;
@@ -419,7 +410,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // The bilinear terms (apply(), bilinearCoefficients()): the affine forms' pose symbols must be the box variables
   // (tau'_i = (t_i - mid_i) / a_i with a_i their scale, tau_i = (t_i - t0_i) / dev_i, t0 = mid: tau'_i = kappa_i
   // tau_i), and each parameter must have one entry (anchor coordinates: one row each).
-  bilinear_ = affine_ && vars_ == n_ && identityPoseMap(box, n_);
+  bilinear_ = affine_ && vars_ == n_ && box.variablesArePose(n_);
   if (bilinear_) {
     int count[kMaxGeometryParameters] = {};
     for (int e = 0; e < entries_; ++e) bilinear_ = bilinear_ && ++count[param_[e]] == 1;

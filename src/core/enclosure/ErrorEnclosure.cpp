@@ -14,6 +14,14 @@
 namespace pkm_accuracy {
 namespace enclosure {
 
+bool BoxInput::variablesArePose(int n) const {
+  if (!hasGradient || variables != n) return false;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < kMaxDof; ++j)
+      if (dualPose[i].d(j) != Interval(i == j ? 1.0 : 0.0)) return false;
+  return true;
+}
+
 std::vector<std::string> enclosureNames() {
   return {"second_order", "combined", "mean_value", "symbolic_precond", "precond", "paper_baseline"};
 }

@@ -70,16 +70,13 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
                                 const AffineInverseAction::AffineMatrix& j0) {
   n_ = model.dof();
   params_ = model.geometryParameterCount();
-  if (n_ != kMaxDof || box.variables != n_ || !box.hasGradient || params_ <= 0 || params_ > kMaxGeometryParameters)
-    return false;
+  if (n_ != kMaxDof || !box.variablesArePose(n_) || params_ <= 0 || params_ > kMaxGeometryParameters) return false;
   if (j0.rows != n_ || j0.cols != n_ || j0.vars != n_) return false;
   // The box variables are the pose coordinates, centred at the box midpoint: then the nominal forms' symbols
   // tau_i = (t_i - t0_i) / dev_i and the model's tau'_i = (t_i - mid_i) / a_i (a_i >= the half-width, the scale
   // AffineForm::variable gives) are related by tau'_i = kappa_i tau_i, kappa_i = dev_i / a_i.
   double kappa[kMaxDof];
   for (int i = 0; i < n_; ++i) {
-    for (int j = 0; j < kMaxDof; ++j)
-      if (box.dualPose[i].d(j) != Interval(i == j ? 1.0 : 0.0)) return false;
     const Interval& c = box.centrePose[i];
     if (!(c.lower() == c.upper() && c.lower() == box.pose[i].mid())) return false;
     const double a = Form::variable(box.pose[i], i).coefficient(i);

@@ -69,6 +69,8 @@ struct BoxInput {
   unsigned rows = ~0u;
   /// Component k is in `rows`.
   bool wants(int k) const { return ((rows >> k) & 1u) != 0; }
+  /// The box variables are the n pose coordinates themselves (pose_i = t_i, as for workspace boxes; dualPose filled).
+  bool variablesArePose(int n) const;
   /// Optional (empty: none), per component: a bound at or below targets[k] is good enough for the caller, so
   /// methods may skip refinements that could only lower it further.
   DVec targets;
