@@ -55,7 +55,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       IMat all(n, n);
       for (int j = 0; j < n; ++j)
         for (int l = 0; l < n; ++l) all(l, j) = Interval(c0(l, j));
-      decomposed = act.apply(all, jac, true) && increment.prepare(model, box, jac);
+      decomposed = act.apply(all, jac) && increment.prepare(model, box, jac);
     }
   }
   if (!decomposed && !act.prepare(model, box, model.hasGeometryUncertainty())) return false;
