@@ -193,6 +193,10 @@ bool fixedPoint(const A& a, const A& approx, const R& rhs, R& z) {
 
 }  // namespace
 
+bool AffineInverseAction::fixedPointBound(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z) {
+  return fixedPoint(a, approx, rhs, z);
+}
+
 bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box, bool withGeometry) {
   n_ = model.dof();
   vars_ = box.variables;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/LU>
+
 #include "pkm_accuracy/core/model/RobotModel.hpp"
 
 namespace pkm_accuracy {
@@ -20,48 +22,6 @@ inline GeometryIncrement::Form dot(const GeometryIncrement::Form* x, const Geome
   GeometryIncrement::Form s = x[0] * y[0];
   for (int l = 1; l < n; ++l) s += x[l] * y[l];
   return s;
-}
-
-/// x >= (I - m)^-1 rhs for m >= 0 (n x n, columns of rhs: cols), verified: an x > 0 with rhs + m x <= x (computed
-/// with upward-bounded sums) proves rho(m) < 1 and bounds every solution. @return false if that fails.
-template <int C>
-bool fixedPoint(const double (&m)[kMaxDof][kMaxDof], const double (&rhs)[kMaxDof][C], double (&x)[kMaxDof][C],
-                int n = kMaxDof, int cols = C) {
-  // rhs raised to > 0 (relative to its column), so that rhs' + m x <= x gives m x < x, i.e. rho(m) < 1.
-  double r[kMaxDof][C], next[kMaxDof][C];
-  for (int j = 0; j < cols; ++j) {
-    double largest = 0.0;
-    for (int i = 0; i < n; ++i) largest = std::max(largest, rhs[i][j]);
-    for (int i = 0; i < n; ++i) r[i][j] = rhs[i][j] + 1e-300 + 1e-9 * largest;
-  }
-  const auto step = [&]() {
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < cols; ++j) {
-        double s = r[i][j];
-        for (int l = 0; l < n; ++l) s += m[i][l] * x[l][j];
-        next[i][j] = up(s);
-      }
-  };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < cols; ++j) x[i][j] = r[i][j];
-  for (int it = 0; it < 6; ++it) {
-    step();
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < cols; ++j) x[i][j] = next[i][j];
-  }
-  for (int attempt = 0; attempt < 4; ++attempt) {
-    const double inflate = attempt == 0 ? 1.0 + 1e-6 : 1.1;
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < cols; ++j) x[i][j] = x[i][j] * inflate + 1e-300;
-    step();
-    bool ok = true;
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < cols; ++j) ok = ok && next[i][j] <= x[i][j] && std::isfinite(x[i][j]);
-    if (ok) return true;
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < cols; ++j) x[i][j] = std::max(x[i][j], next[i][j]);
-  }
-  return false;
 }
 
 }  // namespace
@@ -135,11 +95,17 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
   // Delta M J0 Y (Delta J = -J0 Delta M J = -J0 Y), so |Y| <= A + A |Y|: a bound Ybar > 0 with A + A Ybar <= Ybar
   // proves rho(A) < 1 and |Y| <= Ybar; then |Delta J| <= |J0| Ybar = DJ. (A keeps the cancellations inside the dot
   // products dbar_p . J0_{.,j}; the magnitude product |J0| |Delta M| does not, and its spectral radius is close to 1.)
-  if (!fixedPoint(a_, a_, ybar_)) return false;
+  aMat_.resize(n_, n_);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j) aMat_(i, j) = a_[i][j];
+  aApprox_ = (DMat::Identity(n_, n_) - aMat_).inverse();
+  if (!aApprox_.allFinite()) aApprox_ = DMat::Identity(n_, n_);
+  DMat ybar;
+  if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return false;
   for (int k = 0; k < n_; ++k)
     for (int j = 0; j < n_; ++j) {
       double s = 0.0;
-      for (int i = 0; i < n_; ++i) s += magJ0_[k][i] * ybar_[i][j];
+      for (int i = 0; i < n_; ++i) s += magJ0_[k][i] * ybar(i, j);
       dj_[k][j] = up(s);
     }
   signs_ = SignPattern();
@@ -156,16 +122,16 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
 bool GeometryIncrement::bound(int k, const Form* w, Row& out) const {
   Form b[kMaxGeometryParameters];
   for (int q = 0; q < params_; ++q) b[q] = Form(0.0);
-  double rowB0[kMaxDof][1] = {};  // >= |Delta M w|_i = |delta r_i . w|
+  DMat rowB0 = DMat::Zero(n_, 1);  // >= |Delta M w|_i = |delta r_i . w|
   for (int e = 0; e < entries_; ++e) {
     const Form dw = dot(d_[e], w, n_);
     b[param_[e]] += j0_[k][row_[e]] * dw;
-    rowB0[row_[e]][0] += entryH_[e] * mag(dw);
+    rowB0(row_[e], 0) += entryH_[e] * mag(dw);
   }
   // B_i >= |delta r_i . y|, y = J u = w - J0 Delta M y: |Delta M y| <= B0 + A |Delta M y|.
-  for (int i = 0; i < n_; ++i) rowB0[i][0] = up(rowB0[i][0]);
-  double rowB[kMaxDof][1];
-  if (!fixedPoint<1>(a_, rowB0, rowB)) return false;
+  for (int i = 0; i < n_; ++i) rowB0(i, 0) = up(rowB0(i, 0));
+  DMat rowB;
+  if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, rowB0, rowB)) return false;
   // First order: max over gamma of sum_q gamma_q h_q b_q = sum_q h_q |b_q| <= sum_q (weight_q b_q + offset_q).
   out.linear = Form(0.0);
   out.params = params_;
@@ -182,7 +148,7 @@ bool GeometryIncrement::bound(int k, const Form* w, Row& out) const {
   double second = 0.0;
   for (int i = 0; i < n_; ++i) {
     double s = 0.0;
-    for (int i2 = 0; i2 < n_; ++i2) s += a_[i][i2] * rowB[i2][0];
+    for (int i2 = 0; i2 < n_; ++i2) s += a_[i][i2] * rowB(i2, 0);
     second += magJ0_[k][i] * up(s);
   }
   second = up(second);

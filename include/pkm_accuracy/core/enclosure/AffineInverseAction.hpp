@@ -155,6 +155,12 @@ class AffineInverseAction {
   /// over the box (what the faces give when every direction is certified, without needing the certificates).
   double upperBilinear(const AffineMatrix& a, int k, int j) const;
 
+  /// z >= (I - a)^-1 rhs column by column for a >= 0 (square, at most kMaxDof), verified: a z > 0 with rhs + a z <= z
+  /// (roundings included) proves rho(a) < 1 and bounds every x >= 0 with x <= rhs + a x. approx: any approximation of
+  /// (I - a)^-1 (the starting point). The same check as the expansion's own fixed points (GeometryIncrement uses it).
+  /// @return false if the verification fails.
+  static bool fixedPointBound(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z);
+
  private:
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
   /// @return false if the verification fails (the Neumann majorant does not converge).

@@ -90,7 +90,7 @@ class GeometryIncrement {
   double magD_[GeometryDerivatives::kCapacity][kMaxDof];  ///< >= |dbar_e|
   double a_[kMaxDof][kMaxDof];                            ///< A
   double dj_[kMaxDof][kMaxDof];                           ///< DJ >= |Delta J|
-  double ybar_[kMaxDof][kMaxDof];                         ///< >= |Delta M J|
+  DMat aMat_, aApprox_;                                   ///< A and ~(I - A)^-1 (for the fixed points)
   SignPattern signs_;
 };
 
