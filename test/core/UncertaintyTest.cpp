@@ -700,7 +700,7 @@ void checkSecondOrderOnRandomBoxes(bool decomposed) {
     }
     // Not vacuous: on a single pose the bound exceeds the worst geometry found by a second-order amount only
     // (measured, combined: 0.14% at h = 0.5 mm, 1.5% with the tool point too, 1.8% at h = 1 mm, where f_k itself
-    // varies by +-8% and +-15%; decomposed: 0.32% and 2.7%).
+    // varies by +-8% and +-15%; decomposed: 0.32% and 2.2%).
     EXPECT_LT(worstGap, tool ? 0.03 : (h == 0.0005 ? 0.015 : (decomposed ? 0.04 : 0.08)));
     std::cout << "[ info     ] " << (decomposed ? "decomposed" : "combined") << ", h=" << h
               << (tool ? " with tool point" : "")
