@@ -57,9 +57,7 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
 
   for (int k = 0; k < n_; ++k) {
     for (int j = 0; j < n_; ++j) {
-      double a[kMaxDof];
-      for (int i = 0; i < kMaxDof; ++i) a[i] = j0.pose[i](k, j);
-      j0_[k][j] = Form::fromParts(j0.centre(k, j), a, j0.radius(k, j));
+      j0_[k][j] = entryForm(j0, k, j);
       magJ0_[k][j] = mag(j0_[k][j]);
     }
   }
@@ -117,6 +115,12 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
       if (range.upper() < -dj_[k][j]) signs_.negative |= std::uint64_t(1) << bit;
     }
   return true;
+}
+
+GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::AffineMatrix& a, int k, int j) {
+  double coefficients[kMaxDof];
+  for (int i = 0; i < kMaxDof; ++i) coefficients[i] = i < a.vars ? a.pose[i](k, j) : 0.0;
+  return Form::fromParts(a.centre(k, j), coefficients, a.radius(k, j));
 }
 
 bool GeometryIncrement::bound(int k, const Form* w, Row& out) const {

@@ -42,7 +42,6 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   static thread_local AffineInverseAction::AffineMatrix jac, nv;
   static thread_local AffineInverseAction::Combination comb;
   static thread_local GeometryIncrement increment;
-  static thread_local GeometryIncrement::Row incrementRow;
   const int n = model.dof();
   const int vars = box.variables;
   // The decomposed geometry form: the nominal expansion (no geometry terms) plus GeometryIncrement's bound of the
@@ -106,7 +105,6 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   struct Column {
     int row;
     IVec v;
-    double w[kMaxDof];  ///< v = C w
   };
   static thread_local std::vector<Column> columns;
   columns.clear();
@@ -163,8 +161,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     for (int index = 0; index < (1 << opened); ++index) {
       const int choice = index ^ preferred;
       for (int q = 0; q < opened; ++q) w[open[q]] = (choice & (1 << q)) ? -e[open[q]] : e[open[q]];
-      Column col{k, IVec::Constant(n, Interval(0.0)), {}};
-      for (int j = 0; j < n; ++j) col.w[j] = w[j];
+      Column col{k, IVec::Constant(n, Interval(0.0))};
       for (int j = 0; j < n; ++j) {
         if (w[j] == 0.0) continue;
         for (int l = 0; l < n; ++l) col.v[l] += Interval(c(l, j)) * Interval(w[j]);
@@ -228,17 +225,13 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         AffineInverseAction::combine(nv, k, unit, comb);
         double first = 0.0;
         const double centreAtG0 = comb.centre;
+        GeometryIncrement::Row r;
         if (decomposed) {
           // f_k(t, g) <= sum_j w_j J_kj(t, g) + rest[k] (the signs and secants above hold over J's range over every
           // geometry) = (this column at g0) + e_k^T Delta J w: the increment's linear part joins the column's, its
           // constant goes to the radius.
-          GeometryIncrement::Row& r = incrementRow;
           GeometryIncrement::Form w[kMaxDof];
-          for (int l = 0; l < n; ++l) {
-            double a[kMaxDof];
-            for (int i = 0; i < kMaxDof; ++i) a[i] = i < vars ? nv.pose[i](l, q) : 0.0;
-            w[l] = GeometryIncrement::Form::fromParts(nv.centre(l, q), a, nv.radius(l, q));
-          }
+          for (int l = 0; l < n; ++l) w[l] = GeometryIncrement::entryForm(nv, l, q);
           if (!increment.bound(k, w, r)) return false;
           const double lowerAtG0 = comb.lower();
           double err = std::abs(comb.centre) + std::abs(r.linear.centre());
@@ -268,7 +261,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         if (columnUpper > upper[k]) {
           upper[k] = columnUpper;
           best[k] = comb;
-          for (int p = 0; p < modelParams && decomposed; ++p) bestCoefficient[k][p] = incrementRow.coefficient[p];
+          for (int p = 0; p < modelParams && decomposed; ++p) bestCoefficient[k][p] = r.coefficient[p];
         }
       }
       // Only where the bound is not good enough already (BoxInput::targets), f_k has no secant terms, and every

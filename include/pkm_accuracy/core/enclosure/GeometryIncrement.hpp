@@ -72,6 +72,10 @@ class GeometryIncrement {
   /// @return false if a bound is not finite.
   bool bound(int k, const Form* w, Row& out) const;
 
+  /// Entry (k, j) of an AffineInverseAction::AffineMatrix without its geometry terms, as a Form in the same pose
+  /// symbols (exact: the same centre, coefficients and radius; only for matrices built without geometry terms).
+  static Form entryForm(const AffineInverseAction::AffineMatrix& a, int k, int j);
+
   /// DJ_kj >= |J_kj(t, g) - J_kj(t, g0)| over the box and every geometry (valid after prepare()).
   double entryIncrease(int k, int j) const { return dj_[k][j]; }
 
