@@ -73,11 +73,24 @@ struct GeometryRowDerivative {
   bool affine = false;
   std::array<double, kMaxDof> centre, radius;
   std::array<std::array<double, kMaxDof>, kMaxDof> slope;
+  /// Optional (parameterSlopes = true, only where GeometryDerivatives::withParameterSlopes asked for it): the affine
+  /// form also has terms in the geometry parameters of the row's leg, and `radius` is then only its remainder: for
+  /// every pose of the box and every admissible geometry, component l of d lies in
+  ///   centre[l] + sum_m slope[l][m] tau_m + sum_s parameterSlope[l][s] gamma_s + [-radius[l], radius[l]],
+  /// gamma_s = (g_q - g0_q) / scale[s] in [-1, 1] for the parameter q = slopeParameter[s] (s unused where it is -1),
+  /// g0 the centre of the parameters' ranges (RobotModel::geometryParameterCentre).
+  bool parameterSlopes = false;
+  std::array<int, kMaxDof> slopeParameter;
+  std::array<double, kMaxDof> parameterScale;
+  std::array<std::array<double, kMaxDof>, kMaxDof> parameterSlope;
 };
 
 /// Derivatives of J^-1 with respect to every uncertain geometry parameter, as row entries (fixed capacity).
 struct GeometryDerivatives {
   static constexpr int kCapacity = 64;
+  /// Set by the caller: the entries' affine forms with their geometry terms apart where the model can
+  /// (GeometryRowDerivative::parameterSlopes); else `radius` covers every geometry.
+  bool withParameterSlopes = false;
   int count = 0;
   std::array<GeometryRowDerivative, kCapacity> entries;
 };

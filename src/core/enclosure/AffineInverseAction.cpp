@@ -719,6 +719,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   out.rho = rho;
   out.ll = ll;
   out.ssy = ssy;
+  out.sy = sy;
   out.cross = upAll(DMat(sly + lsy));
   // Affine forms (N V = Y0 - sum_i D_i V dev_i - sum_p G_p V dev_p + E^2 N V). Pose terms -(D_i V)(k, j) (t_i - t0_i)
   // = -[pm +- pr] devMag tau_i: coefficient -pm devMag, the rest

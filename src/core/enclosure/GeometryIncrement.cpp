@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/LU>
 
@@ -17,16 +18,9 @@ inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
 /// Upper bound of the magnitude of a form over the box.
 inline double mag(const GeometryIncrement::Form& f) { return f.toInterval().mag(); }
 
-/// sum_l x[l] y[l] as an affine form.
-inline GeometryIncrement::Form dot(const GeometryIncrement::Form* x, const GeometryIncrement::Form* y, int n) {
-  GeometryIncrement::Form s = x[0] * y[0];
-  for (int l = 1; l < n; ++l) s += x[l] * y[l];
-  return s;
-}
-
 }  // namespace
 
-bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& box,
+bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction& act,
                                 const AffineInverseAction::AffineMatrix& j0) {
   n_ = model.dof();
   params_ = model.geometryParameterCount();
@@ -46,6 +40,7 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
   }
   static thread_local GeometryDerivatives geo;
   geo.count = 0;
+  geo.withParameterSlopes = true;
   if (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0 || geo.count > GeometryDerivatives::kCapacity)
     return false;
   entries_ = geo.count;
@@ -72,20 +67,72 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
         a[m] = g.slope[l][m] * kappa[m];  // off by at most 2 ulps of the exact product: in the radius
         sum += std::abs(a[m]);
       }
-      d_[e][l] = Form::fromParts(g.centre[l], a, up(g.radius[l] + 1e-15 * sum));
-      magD_[e][l] = mag(d_[e][l]);
+      dC_[l][e] = g.centre[l];
+      double dev = 0.0;
+      for (int m = 0; m < kMaxDof; ++m) {
+        dA_[l][m][e] = a[m];
+        dev += std::abs(a[m]);
+      }
+      dR_[l][e] = up(g.radius[l] + 1e-15 * sum);
+      dDev_[l][e] = up(dev + dR_[l][e]);
+      // The parameter terms (where the model gives them): dbar_e's are half of d_e's (below), kept apart.
+      double half = 0.0;
+      for (int s = 0; s < kMaxDof; ++s) {
+        const bool used = g.parameterSlopes && g.slopeParameter[s] >= 0;
+        dK_[l][s][e] = used ? g.parameterSlope[l][s] : 0.0;
+        half += std::abs(dK_[l][s][e]);
+      }
+      dDevK_[l][e] = up(0.5 * half);
     }
   }
+  // |dbar_e^T S| <= |c_e^T S| + dev_e^T |S| (dbar_e in c_e +- dev_e componentwise over the box), with
+  // |c_e^T S| <= |c_e^T E0m| + |c_e|^T E0r + sum_i (|c_e^T D_i,m| + |c_e|^T D_i,r) dev_i; the products c_e^T X in
+  // double are off by less than 1e-14 |c_e|^T |X| (sums of 6 products).
+  {
+    const DMat& magS = act.poseMagnitude();
+    if (magS.rows() != n_ || magS.cols() != n_) return false;
+    for (int l = 0; l < n_; ++l)
+      for (int e = 0; e < entries_; ++e) dS_[l][e] = 0.0;
+    const auto addRow = [&](const DMat& xm, const DMat& xr, double scale) {
+      for (int l = 0; l < n_; ++l)
+        for (int e = 0; e < entries_; ++e) {
+          double dot = 0.0, mag = 0.0;
+          for (int m = 0; m < n_; ++m) {
+            dot += dC_[m][e] * xm(m, l);
+            mag += std::abs(dC_[m][e]) * (std::abs(xm(m, l)) * 1e-14 + xr(m, l));
+          }
+          dS_[l][e] += (std::abs(dot) + mag) * scale;
+        }
+    };
+    addRow(act.residualMid(), act.residualRad(), 1.0);
+    for (int i = 0; i < n_; ++i) addRow(act.poseSlopeMid(i), act.poseSlopeRad(i), act.deviation(i));
+    for (int l = 0; l < n_; ++l)
+      for (int e = 0; e < entries_; ++e) {
+        double s = 0.0;
+        for (int m = 0; m < n_; ++m) s += (dDev_[m][e] + dDevK_[m][e] + 1e-14 * std::abs(dC_[m][e])) * magS(m, l);
+        dS_[l][e] = up(up(dS_[l][e]) + up(s));
+      }
+  }
   // A(i, j) >= |delta r_i . J0_{.,j}|.
+  for (int j = 0; j < n_; ++j) {
+    Form column[kMaxDof], out[GeometryDerivatives::kCapacity];
+    double ssy[kMaxDof], sy[kMaxDof], kw[GeometryDerivatives::kCapacity];
+    for (int l = 0; l < n_; ++l) {
+      column[l] = j0_[l][j];
+      ssy[l] = j0.ssy(l, j);
+      sy[l] = j0.sy(l, j);
+    }
+    columnDots(column, ssy, sy, out);
+    parameterDots(column, kw);
+    for (int e = 0; e < entries_; ++e) {
+      magDc_[e][j] = up(mag(out[e]) + kw[e]);
+    }
+  }
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) a_[i][j] = 0.0;
   for (int e = 0; e < entries_; ++e) {
     const int i = row_[e];
-    Form column[kMaxDof];
-    for (int j = 0; j < n_; ++j) {
-      for (int l = 0; l < n_; ++l) column[l] = j0_[l][j];
-      a_[i][j] += entryH_[e] * mag(dot(d_[e], column, n_));
-    }
+    for (int j = 0; j < n_; ++j) a_[i][j] += entryH_[e] * magDc_[e][j];
   }
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) a_[i][j] = up(a_[i][j]);
@@ -117,20 +164,138 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
   return true;
 }
 
+void GeometryIncrement::dots(const Form* w, Form* out) const {
+  // The products of interval::AffineForm (the square terms' mean to the centre), summed over the components l in
+  // one pass over the entries: centre sum_l (c_l wc_l + sum_m a_lm wa_lm / 2), coefficients sum_l (c_l wa_lm +
+  // wc_l a_lm), radius sum_l (|c_l| wr_l + |wc_l| r_l + dev_l devw_l - sum_m |a_lm wa_lm| / 2). Each coefficient and
+  // the centre are sums of at most 6 * (2 + 6) = 48 products and sums: their rounding errors are below 48 * 2^-53 /
+  // (1 - 48 * 2^-53) < 1e-14 times the sum of the magnitudes of their terms (err); the radius terms are >= 0 (dev_l
+  // devw_l >= sum_m |a_lm wa_lm|) and up() covers their relative rounding.
+  double c[GeometryDerivatives::kCapacity], a[kMaxDof][GeometryDerivatives::kCapacity];
+  double r[GeometryDerivatives::kCapacity], err[GeometryDerivatives::kCapacity];
+  for (int e = 0; e < entries_; ++e) c[e] = r[e] = err[e] = 0.0;
+  for (int m = 0; m < kMaxDof; ++m)
+    for (int e = 0; e < entries_; ++e) a[m][e] = 0.0;
+  for (int l = 0; l < n_; ++l) {
+    const double wc = w[l].centre(), awc = std::abs(wc), wr = w[l].radius();
+    double wa[kMaxDof], devw = wr;
+    for (int m = 0; m < kMaxDof; ++m) {
+      wa[m] = w[l].coefficient(m);
+      devw += std::abs(wa[m]);
+    }
+    const double* dc = dC_[l];
+    for (int e = 0; e < entries_; ++e) {
+      const double x = dc[e], ax = std::abs(x);
+      double half = 0.0, halfMag = 0.0, terms = std::abs(x * wc);
+      for (int m = 0; m < kMaxDof; ++m) {
+        const double dm = dA_[l][m][e];
+        a[m][e] += x * wa[m] + wc * dm;
+        const double d = dm * wa[m];
+        half += d;
+        halfMag += std::abs(d);
+        terms += ax * std::abs(wa[m]) + awc * std::abs(dm);
+      }
+      c[e] += x * wc + 0.5 * half;
+      r[e] += ax * wr + awc * dR_[l][e] + (dDev_[l][e] * devw - 0.5 * (1.0 - 1e-14) * halfMag);
+      err[e] += terms + halfMag;
+    }
+  }
+  for (int e = 0; e < entries_; ++e) {
+    double coefficients[kMaxDof];
+    for (int m = 0; m < kMaxDof; ++m) coefficients[m] = a[m][e];
+    out[e] = Form::fromParts(c[e], coefficients, up(r[e] + 1e-14 * err[e]));
+  }
+}
+
+double GeometryIncrement::centreIncrease(int k, const double* wc) const {
+  double b[kMaxGeometryParameters];
+  for (int p = 0; p < params_; ++p) b[p] = 0.0;
+  for (int e = 0; e < entries_; ++e) {
+    double dw = 0.0;
+    for (int l = 0; l < n_; ++l) dw += dC_[l][e] * wc[l];
+    b[param_[e]] += j0_[k][row_[e]].centre() * dw;
+  }
+  double s = 0.0;
+  for (int p = 0; p < params_; ++p) s += h_[p] * std::abs(b[p]);
+  return s;
+}
+
+void GeometryIncrement::rowBound(int k, Row& out) const {
+  double s = 0.0;
+  for (int j = 0; j < n_; ++j) s += e_[j] * dj_[k][j];
+  out.linear = Form(0.0);
+  out.params = params_;
+  out.constant = out.magnitude = up(s);
+  for (int p = 0; p < params_; ++p) out.coefficient[p] = 0.0;
+}
+
+void GeometryIncrement::columnDots(const Form* w, const double* ssy, const double* sy, Form* out) const {
+  // w_l = (its affine form without ssy_l in the radius) + x_l, |x_l| <= ssy_l, x = S S y: |dbar_e . x| <= min(sum_l
+  // |dbar_e|_l ssy_l, sum_l |dbar_e^T S|_l sy_l).
+  Form reduced[kMaxDof];
+  double coefficients[kMaxDof];
+  for (int l = 0; l < n_; ++l) {
+    if (!(ssy[l] >= 0.0) || !(ssy[l] <= w[l].radius())) return dots(w, out);
+    for (int m = 0; m < kMaxDof; ++m) coefficients[m] = w[l].coefficient(m);
+    reduced[l] = Form::fromParts(w[l].centre(), coefficients, interval::rounding::subUp(w[l].radius(), ssy[l]));
+  }
+  dots(reduced, out);
+  for (int e = 0; e < entries_; ++e) {
+    double plain = 0.0, structured = 0.0;
+    for (int l = 0; l < n_; ++l) {
+      plain += (std::abs(dC_[l][e]) + dDev_[l][e] + dDevK_[l][e]) * ssy[l];
+      structured += dS_[l][e] * sy[l];
+    }
+    const double extra = up(std::min(plain, structured));
+    for (int m = 0; m < kMaxDof; ++m) coefficients[m] = out[e].coefficient(m);
+    out[e] = Form::fromParts(out[e].centre(), coefficients, up(out[e].radius() + extra));
+  }
+}
+
+void GeometryIncrement::parameterDots(const Form* w, double* out) const {
+  // Each dot product kappa_s . w_c in double is off by less than 1e-14 sum_l |kappa_ls| |w_c,l| (6 products).
+  double wc[kMaxDof], wd[kMaxDof];
+  for (int l = 0; l < n_; ++l) {
+    wc[l] = w[l].centre();
+    wd[l] = w[l].deviation() + 1e-14 * std::abs(wc[l]);
+  }
+  for (int e = 0; e < entries_; ++e) out[e] = 0.0;
+  for (int q = 0; q < kMaxDof; ++q) {
+    double dot[GeometryDerivatives::kCapacity], mag[GeometryDerivatives::kCapacity];
+    for (int e = 0; e < entries_; ++e) dot[e] = mag[e] = 0.0;
+    for (int l = 0; l < n_; ++l) {
+      const double* x = dK_[l][q];
+      for (int e = 0; e < entries_; ++e) {
+        dot[e] += x[e] * wc[l];
+        mag[e] += std::abs(x[e]) * wd[l];
+      }
+    }
+    for (int e = 0; e < entries_; ++e) out[e] += std::abs(dot[e]) + mag[e];
+  }
+  for (int e = 0; e < entries_; ++e) out[e] = up(0.5 * out[e]);
+}
+
 GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::AffineMatrix& a, int k, int j) {
   double coefficients[kMaxDof];
   for (int i = 0; i < kMaxDof; ++i) coefficients[i] = i < a.vars ? a.pose[i](k, j) : 0.0;
   return Form::fromParts(a.centre(k, j), coefficients, a.radius(k, j));
 }
 
-bool GeometryIncrement::bound(int k, const Form* w, Row& out) const {
+bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const {
   Form b[kMaxGeometryParameters];
   for (int q = 0; q < params_; ++q) b[q] = Form(0.0);
   DMat rowB0 = DMat::Zero(n_, 1);  // >= |Delta M w|_i = |delta r_i . w|
+  Form dws[GeometryDerivatives::kCapacity];
+  columnDots(w, ssy, sy, dws);
+  // With the parameter terms (GeometryRowDerivative::parameterSlopes), dbar_e = (its pose form) + sum_s kappa_s
+  // gamma'_s / 2: dbar_e . w = dws_e + sum_s gamma'_s (kappa_s . w) / 2, so b_p gets terms gamma'_s gamma_p
+  // (second order in the geometry), bounded in magnitude: sum_e h_e |J0_{k,row(e)}| parameterDots(w)_e.
+  double cross = 0.0, kw[GeometryDerivatives::kCapacity];
+  parameterDots(w, kw);
   for (int e = 0; e < entries_; ++e) {
-    const Form dw = dot(d_[e], w, n_);
-    b[param_[e]] += j0_[k][row_[e]] * dw;
-    rowB0(row_[e], 0) += entryH_[e] * mag(dw);
+    b[param_[e]] += j0_[k][row_[e]] * dws[e];
+    rowB0(row_[e], 0) += entryH_[e] * up(mag(dws[e]) + kw[e]);
+    cross += entryH_[e] * up(magJ0_[k][row_[e]] * kw[e]);
   }
   // B_i >= |delta r_i . y|, y = J u = w - J0 Delta M y: |Delta M y| <= B0 + A |Delta M y|.
   for (int i = 0; i < n_; ++i) rowB0(i, 0) = up(rowB0(i, 0));
@@ -155,7 +320,7 @@ bool GeometryIncrement::bound(int k, const Form* w, Row& out) const {
     for (int i2 = 0; i2 < n_; ++i2) s += a_[i][i2] * rowB(i2, 0);
     second += magJ0_[k][i] * up(s);
   }
-  second = up(second);
+  second = up(up(second) + up(cross));
   out.constant = up(up(constant) + second);
   out.magnitude = up(up(magnitude) + second);
   return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);

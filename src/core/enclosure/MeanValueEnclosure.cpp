@@ -54,7 +54,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       IMat all(n, n);
       for (int j = 0; j < n; ++j)
         for (int l = 0; l < n; ++l) all(l, j) = Interval(c0(l, j));
-      decomposed = act.apply(all, jac) && increment.prepare(model, box, jac);
+      decomposed = act.apply(all, jac) && increment.prepare(model, box, act, jac);
     }
   }
   if (!decomposed && !act.prepare(model, box, model.hasGeometryUncertainty())) return false;
@@ -178,11 +178,16 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   static thread_local AffineInverseAction::Combination best[kMaxDof];
   static thread_local double bestCoefficient[kMaxDof][kMaxGeometryParameters];  // (decomposed: geometry hints)
   double atCentre[kMaxDof];  // the largest column's value estimate at the box centre (not certified)
+  // Decomposed: some columns' increase bounded coarsely (coarse), and the row's bound without those increases.
+  bool coarse[kMaxDof];
+  double atG0[kMaxDof];
   for (int k = 0; k < n; ++k) {
     upper[k] = -std::numeric_limits<double>::infinity();
     missed[k] = false;
     lower[k] = 0.0;
     atCentre[k] = -std::numeric_limits<double>::infinity();
+    coarse[k] = false;
+    atG0[k] = -std::numeric_limits<double>::infinity();
   }
   double unit[kMaxDof];
   // Monotonicity in the geometry: where f_k (the largest of its columns' functions, no secant terms) is certified
@@ -226,14 +231,32 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         double first = 0.0;
         const double centreAtG0 = comb.centre;
         GeometryIncrement::Row r;
+        // (Decomposed: the box is split whatever this column's increase, which is then bounded coarsely.)
+        bool doomed = false;
         if (decomposed) {
           // f_k(t, g) <= sum_j w_j J_kj(t, g) + rest[k] (the signs and secants above hold over J's range over every
           // geometry) = (this column at g0) + e_k^T Delta J w: the increment's linear part joins the column's, its
           // constant goes to the radius.
-          GeometryIncrement::Form w[kMaxDof];
-          for (int l = 0; l < n; ++l) w[l] = GeometryIncrement::entryForm(nv, l, q);
-          if (!increment.bound(k, w, r)) return false;
           const double lowerAtG0 = comb.lower();
+          if (targeted && !(lowerAtG0 > box.targets[k])) {
+            doomed = missed[k] || misses(k, comb.upper());
+          }
+          if (doomed) {
+            increment.rowBound(k, r);
+            coarse[k] = true;
+            double wc[kMaxDof];
+            for (int l = 0; l < n; ++l) wc[l] = nv.centre(l, q);
+            atG0[k] = std::max(atG0[k], comb.upper() + increment.centreIncrease(k, wc));
+          } else {
+            GeometryIncrement::Form w[kMaxDof];
+            double ssy[kMaxDof], sy[kMaxDof];
+            for (int l = 0; l < n; ++l) {
+              w[l] = GeometryIncrement::entryForm(nv, l, q);
+              ssy[l] = nv.ssy(l, q);
+              sy[l] = nv.sy(l, q);
+            }
+            if (!increment.bound(k, w, ssy, sy, r)) return false;
+          }
           double err = std::abs(comb.centre) + std::abs(r.linear.centre());
           comb.centre += r.linear.centre();
           for (int i = 0; i < vars; ++i) {
@@ -243,6 +266,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
           comb.radius = up(comb.radius + r.linear.radius() + r.constant + 1e-15 * err);
           lower[k] = std::max(lower[k], interval::rounding::subDown(lowerAtG0, r.magnitude));
           for (int p = 0; p < r.params; ++p) first += std::abs(r.coefficient[p]);
+          if (doomed) first += r.constant;  // (no coefficients: the coarse bound, above the first-order terms)
         }
         // At the box centre, over the geometries: the first-order terms' maximum G, plus G^2 / value for the
         // second-order ones (measured: ~1.3% of f_k at +-1 mm, where G is 10-18% of it; G itself for a column whose
@@ -258,6 +282,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         if (nv.bilinear && (!targeted || (!missed[k] && misses(k, columnUpper))))
           columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
         missed[k] = missed[k] || misses(k, columnUpper);
+        if (!doomed) atG0[k] = std::max(atG0[k], columnUpper);
         if (columnUpper > upper[k]) {
           upper[k] = columnUpper;
           best[k] = comb;
@@ -301,11 +326,18 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     out.lower[k] = std::max(out.lower[k], lower[k]);
     if (!(bound < out.upper[k])) continue;
     out.upper[k] = bound;
+    if (coarse[k]) {
+      if (out.searchUpper.size() != n) out.searchUpper = out.upper;
+      out.searchUpper[k] = std::min(bound, (Interval(atG0[k]) + rest[k]).upper());
+    } else if (out.searchUpper.size() == n) {
+      out.searchUpper[k] = bound;
+    }
     if (!(bound > 0.0) || !std::isfinite(bound)) continue;
-    // Bisection hints: each variable's share of the bound's width; sensitivities d f_k / d g_p ~ coefficient / h_p
-    // (only the sign is used).
+    // Bisection hints: each variable's share of the bound's width (of the search's bound, relative to which the
+    // verifier reads them); sensitivities d f_k / d g_p ~ coefficient / h_p (only the sign is used).
+    const double searchBound = out.searchUpper.size() == n ? out.searchUpper[k] : bound;
     for (int i = 0; i < vars; ++i) {
-      out.componentSmear(k, i) = (std::abs(best[k].pose[i]) + best[k].poseSpread[i]) / bound;
+      out.componentSmear(k, i) = (std::abs(best[k].pose[i]) + best[k].poseSpread[i]) / searchBound;
       smear[i] = std::max(smear[i], out.componentSmear(k, i));
       largest = std::max(largest, smear[i]);
     }
@@ -396,6 +428,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
   out.internals.valid = false;
   out.centreEstimate.resize(0);
+  out.searchUpper.resize(0);
   out.componentSmear.resize(0, 0);
   out.geometrySmear.resize(0, 0);
   out.geometrySensitivity.resize(0, 0);
@@ -407,6 +440,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   const auto discardAffine = [&out, n]() {
     out.upper = DVec::Constant(n, std::numeric_limits<double>::infinity());
     out.centreEstimate.resize(0);
+    out.searchUpper.resize(0);
     out.lower = DVec::Zero(n);
     out.componentSmear.resize(0, 0);
     out.geometrySmear.resize(0, 0);

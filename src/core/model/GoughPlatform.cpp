@@ -340,6 +340,7 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
       e.parameter = p;
       e.row = par.kind == Parameter::Tool ? k : par.leg;
       e.affine = false;
+      e.parameterSlopes = false;
     }
     tool = tool || par.kind == Parameter::Tool;
   }
@@ -371,8 +372,8 @@ bool GoughPlatform::geometryDerivatives(const IVec& q, GeometryDerivatives& out)
 }
 
 namespace {
-using Aff = interval::AffineForm<kMaxDof>;
-void cross(const Aff x[3], const Aff y[3], Aff out[3]) {
+template <int N>
+void cross(const interval::AffineForm<N> x[3], const interval::AffineForm<N> y[3], interval::AffineForm<N> out[3]) {
   out[0] = x[1] * y[2] - x[2] * y[1];
   out[1] = x[2] * y[0] - x[0] * y[2];
   out[2] = x[0] * y[1] - x[1] * y[0];
@@ -380,6 +381,36 @@ void cross(const Aff x[3], const Aff y[3], Aff out[3]) {
 }  // namespace
 
 void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives& out) const {
+  if (out.withParameterSlopes) {
+    affineGeometryDerivativesWith<2 * kMaxDof>(q, out);
+  } else {
+    affineGeometryDerivativesWith<kMaxDof>(q, out);
+  }
+}
+
+template <int N>
+void GoughPlatform::affineGeometryDerivativesWith(const IVec& q, GeometryDerivatives& out) const {
+  using Aff = interval::AffineForm<N>;
+  // With N = 12, symbols 6 + k and 9 + k are the leg's base and platform anchor coordinates k (where uncertain):
+  // each entry only combines quantities of its own leg, so the legs share the symbol numbers.
+  constexpr bool kAnchorSymbols = N == 2 * kMaxDof;
+  int baseParam[6][3], platformParam[6][3];
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 3; ++k) baseParam[i][k] = platformParam[i][k] = -1;
+  for (int p = 0; p < static_cast<int>(params_.size()); ++p) {
+    if (params_[p].kind == Parameter::Base) baseParam[params_[p].leg][params_[p].coord] = p;
+    if (params_[p].kind == Parameter::Platform) platformParam[params_[p].leg][params_[p].coord] = p;
+  }
+  // The anchor coordinate x (an interval of centre x0 and parameter p, or exact) as a form: with symbols, x0 +
+  // scale gamma (scale >= |range - x0|); without, the interval itself (its width to the radius).
+  const auto anchor = [&](const Interval& x, const Interval& x0, int p, int symbol, double& scale) {
+    scale = 0.0;
+    if (!kAnchorSymbols || p < 0 || x.isPoint()) return Aff(x);
+    double coefficients[N] = {};
+    scale = (x - x0).mag();
+    coefficients[symbol] = scale;
+    return Aff::fromParts(x0.lower(), coefficients, 0.0);
+  };
   // Row i of J^-1 is (n, m) = (d / L, u x d / L), d = p + R b_i - A_i, u = R (b_i - c), L = |d|. Each anchor
   // coordinate moves d and u along a fixed direction (dL = (d . dd) / L, dn = (dd - n dL) / L,
   // dm = (du x d + u x dd - m dL) / L):
@@ -400,22 +431,28 @@ void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives
   struct Leg {
     bool built = false;
     Aff d[3], u[3], n[3], m[3], inv;
-    Aff arm[3];  ///< p + R c - A_i (the platform anchors' moment arm)
+    Aff arm[3];       ///< p + R c - A_i (the platform anchors' moment arm)
+    double scale[6];  ///< the anchor symbols' scales (0: none)
   };
   Leg legs[6];
   auto legOf = [&](int i) -> const Leg& {
     Leg& leg = legs[i];
     if (leg.built) return leg;
     leg.built = true;
+    Aff a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+      a[k] = anchor(a_[i][k], aMid_[i][k], baseParam[i][k], kMaxDof + k, leg.scale[k]);
+      b[k] = anchor(b_[i][k], bMid_[i][k], platformParam[i][k], kMaxDof + 3 + k, leg.scale[3 + k]);
+    }
     for (int k = 0; k < 3; ++k) {
       Aff rb(0.0), ru(0.0);
       for (int l = 0; l < 3; ++l) {
-        rb += r[k][l] * Aff(b_[i][l]);
-        ru += r[k][l] * Aff(b_[i][l] - c_[l]);
+        rb += r[k][l] * b[l];
+        ru += r[k][l] * (b[l] - Aff(c_[l]));
       }
-      leg.d[k] = pose[k] + rb - Aff(a_[i][k]);
+      leg.d[k] = pose[k] + rb - a[k];
       leg.u[k] = ru;
-      leg.arm[k] = pose[k] + tool[k] - Aff(a_[i][k]);
+      leg.arm[k] = pose[k] + tool[k] - a[k];
     }
     leg.inv = reciprocal(sqrt(leg.d[0] * leg.d[0] + leg.d[1] * leg.d[1] + leg.d[2] * leg.d[2]));
     Aff w[3];
@@ -462,6 +499,13 @@ void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives
       entry.radius[l] = v[l].radius();
       for (int m = 0; m < 6; ++m) entry.slope[l][m] = v[l].coefficient(m);
       entry.d[l] = interval::MidRad(v[l].centre(), v[l].deviation());
+      if (kAnchorSymbols)
+        for (int s = 0; s < 6; ++s) entry.parameterSlope[l][s] = v[l].coefficient((kMaxDof + s) % N);
+    }
+    entry.parameterSlopes = kAnchorSymbols;
+    for (int s = 0; s < 6 && kAnchorSymbols; ++s) {
+      entry.slopeParameter[s] = leg.scale[s] > 0.0 ? (s < 3 ? baseParam[i][s] : platformParam[i][s - 3]) : -1;
+      entry.parameterScale[s] = leg.scale[s];
     }
     entry.affine = finite;
     if (!finite)

@@ -300,6 +300,12 @@ class Run {
                          [&] { process(right, depth + 1, active, second); });
   }
 
+  /// The bound the search's heuristics read for component k: ErrorBounds::searchUpper where the enclosure gives one
+  /// (a row whose geometry increase was bounded only coarsely, because the box is split anyway), else the bound.
+  static double searchBound(const enclosure::ErrorBounds& bounds, int k) {
+    return bounds.searchUpper.size() == bounds.upper.size() ? bounds.searchUpper[k] : bounds.upper[k];
+  }
+
   /// Largest relative excess of a still-active component's bound over its target (progress measure).
   double relativeExcess(const enclosure::ErrorBounds& bounds, unsigned active) const {
     double worst = 0.0;
@@ -307,7 +313,7 @@ class Run {
       if (!(active & (1u << k))) continue;
       const double goal = target(k);
       if (!std::isfinite(bounds.upper[k]) || !(goal > 0.0)) return kInf;
-      worst = std::max(worst, (bounds.upper[k] - goal) / goal);
+      worst = std::max(worst, (searchBound(bounds, k) - goal) / goal);
     }
     return worst;
   }
@@ -329,7 +335,7 @@ class Run {
       for (int k = 0; k < n_; ++k) {
         if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
         const double goal = target(k);
-        const double excess = goal > 0.0 ? bounds.upper[k] / goal : 1.0;
+        const double excess = goal > 0.0 ? searchBound(bounds, k) / goal : 1.0;
         score = std::max(score, excess * bounds.geometrySmear(k, p));
       }
       if (score > bestScore) {
@@ -416,7 +422,7 @@ class Run {
       return false;
     for (int k = 0; k < n_; ++k) {
       if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
-      if (bounds.upper[k] * (1.0 - bounds.componentSmear(k, split)) > kHopeless * target(k)) return true;
+      if (searchBound(bounds, k) * (1.0 - bounds.componentSmear(k, split)) > kHopeless * target(k)) return true;
     }
     return false;
   }
@@ -471,7 +477,7 @@ class Run {
       for (int k = 0; k < n_; ++k) {
         if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
         const double goal = target(k);
-        const double excess = goal > 0.0 ? bounds.upper[k] / goal : 1.0;
+        const double excess = goal > 0.0 ? searchBound(bounds, k) / goal : 1.0;
         for (int i = 0; i < m_; ++i) score[i] = std::max(score[i], excess * bounds.componentSmear(k, i));
       }
       if (!(score.maxCoeff() > 0.0)) score = bounds.splitScore;

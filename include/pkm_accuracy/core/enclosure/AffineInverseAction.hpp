@@ -69,6 +69,8 @@ class AffineInverseAction {
     DMat ll;
     /// The other parts of the remainder's bound in radius: ssy >= |S S y|, cross >= |S L y| + |L S y| (tests).
     DMat ssy, cross;
+    /// sy(k, j) >= |(S y_j)_k| (S = E0 + P the pose part of E; GeometryIncrement bounds d . (S S y) through it).
+    DMat sy;
     /// The pose x geometry terms kept as products tau_i gamma_p (bilinearCoefficients(), upperBilinear()); only from
     /// apply(v, a, true), for boxes whose variables are the pose coordinates and models with affine geometry
     /// derivatives (else false and empty): q1[i](e, j) = c_e . (D_i v_j) and sv[i](e, j) = s_{e,i} . v_j (midpoints:
@@ -117,6 +119,12 @@ class AffineInverseAction {
   const DMat& poseSlopeMid(int i) const { return dm_[i]; }
   const DMat& poseSlopeRad(int i) const { return dr_[i]; }
   int parameters() const { return params_; }
+  /// E0 = C J^-1(t0, g0) - I, midpoint and radius, and |t_i - t0_i| <= deviation(i) (valid after prepare()).
+  const DMat& residualMid() const { return e0m_; }
+  const DMat& residualRad() const { return e0r_; }
+  double deviation(int i) const { return devMag_[i]; }
+  /// >= |S| = |E0| + sum_i |T_i| |t_i - t0_i|, the pose part of E (valid after prepare()).
+  const DMat& poseMagnitude() const { return magS_; }
 
   /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
   /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).

@@ -64,13 +64,23 @@ class GeometryIncrement {
   /// @return false if it cannot be built (then the caller uses the combined form): the box variables are not the
   /// pose coordinates with the centre at the box midpoint, the model gives no affine geometry derivatives for every
   /// entry, or the fixed point for |Delta J| does not verify.
-  bool prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction::AffineMatrix& j0);
+  bool prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction& act,
+               const AffineInverseAction::AffineMatrix& j0);
 
   /// The increase of sum_j u_j J_kj(t, g) over its value at g0, e_k^T Delta J u, bounded over the box and every
   /// geometry, for weights u given by w = J0 u (the affine forms of the column N C u of the nominal expansion, all
-  /// n rows; |u_j| <= e_j for the bounds of f_k). Valid after prepare().
+  /// n rows; |u_j| <= e_j for the bounds of f_k), with ssy and sy that column's bounds of |S S y| (a part of w's
+  /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare().
   /// @return false if a bound is not finite.
-  bool bound(int k, const Form* w, Row& out) const;
+  bool bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const;
+
+  /// The cheap bound of the same increase for every weights |u_j| <= e_j: |e_k^T Delta J u| <= sum_j e_j DJ_kj (a
+  /// constant; no first-order terms). For columns whose box is split whatever their increment (MeanValueEnclosure).
+  void rowBound(int k, Row& out) const;
+
+  /// An estimate (NOT certified) of the largest first-order increase at the box centre, sum_p h_p |b_p(centre)|, for
+  /// the centres wc of w = J0 u.
+  double centreIncrease(int k, const double* wc) const;
 
   /// Entry (k, j) of an AffineInverseAction::AffineMatrix without its geometry terms, as a Form in the same pose
   /// symbols (exact: the same centre, coefficients and radius; only for matrices built without geometry terms).
@@ -83,18 +93,34 @@ class GeometryIncrement {
   const SignPattern& signs() const { return signs_; }
 
  private:
+  /// out[e] >= dbar_e . w for every entry e (w: n forms in the same pose symbols).
+  void dots(const Form* w, Form* out) const;
+  /// out[e] >= sum_s |kappa_s . w| / 2 over the box for every entry e (the parameter terms of dbar_e . w, every
+  /// gamma').
+  void parameterDots(const Form* w, double* out) const;
+  /// The same for a column of the nominal expansion whose radius includes ssy >= |S S y| (componentwise): that part
+  /// enters as |dbar_e^T S| sy (the dot products keep their cancellations) where it is smaller than |dbar_e| ssy.
+  void columnDots(const Form* w, const double* ssy, const double* sy, Form* out) const;
+
   int n_ = 0, params_ = 0, entries_ = 0;
   std::vector<double> e_;
   double h_[kMaxGeometryParameters];
   int param_[GeometryDerivatives::kCapacity], row_[GeometryDerivatives::kCapacity];
   double entryH_[GeometryDerivatives::kCapacity];
-  Form j0_[kMaxDof][kMaxDof];                             ///< J0 entries over the box
-  double magJ0_[kMaxDof][kMaxDof];                        ///< >= |J0| over the box
-  Form d_[GeometryDerivatives::kCapacity][kMaxDof];       ///< dbar_e, per entry e and component
-  double magD_[GeometryDerivatives::kCapacity][kMaxDof];  ///< >= |dbar_e|
-  double a_[kMaxDof][kMaxDof];                            ///< A
-  double dj_[kMaxDof][kMaxDof];                           ///< DJ >= |Delta J|
-  DMat aMat_, aApprox_;                                   ///< A and ~(I - A)^-1 (for the fixed points)
+  Form j0_[kMaxDof][kMaxDof];       ///< J0 entries over the box
+  double magJ0_[kMaxDof][kMaxDof];  ///< >= |J0| over the box
+  /// dbar_e's affine forms, component l, entry e (entries innermost, for dots()): centre, coefficient of tau_m,
+  /// radius and deviation (sum_m |coefficient| + radius, rounded up).
+  double dC_[kMaxDof][GeometryDerivatives::kCapacity], dA_[kMaxDof][kMaxDof][GeometryDerivatives::kCapacity];
+  double dR_[kMaxDof][GeometryDerivatives::kCapacity], dDev_[kMaxDof][GeometryDerivatives::kCapacity];
+  double dS_[kMaxDof][GeometryDerivatives::kCapacity];  ///< >= |dbar_e^T S|, component l, entry e
+  /// d_e's parameter terms (kappa, coefficient of gamma'_s in component l; 0 where the model gives none) and half
+  /// the sum of their magnitudes (dbar_e's deviation through them).
+  double dK_[kMaxDof][kMaxDof][GeometryDerivatives::kCapacity], dDevK_[kMaxDof][GeometryDerivatives::kCapacity];
+  double a_[kMaxDof][kMaxDof];                             ///< A
+  double magDc_[GeometryDerivatives::kCapacity][kMaxDof];  ///< >= |dbar_e . J0_{.,j}|
+  double dj_[kMaxDof][kMaxDof];                            ///< DJ >= |Delta J|
+  DMat aMat_, aApprox_;                                    ///< A and ~(I - A)^-1 (for the fixed points)
   SignPattern signs_;
 };
 

@@ -57,6 +57,10 @@ class GoughPlatform final : public RobotModel {
  private:
   /// The affine forms of geometryDerivatives() (anchor entries; tool-point entries keep affine = false).
   void affineGeometryDerivatives(const IVec& pose, GeometryDerivatives& out) const;
+  /// The same with N noise symbols: 6 for the pose (the anchors' ranges in the radii), or 12, the pose and the
+  /// anchor coordinates of the entry's leg (GeometryRowDerivative::parameterSlopes).
+  template <int N>
+  void affineGeometryDerivativesWith(const IVec& pose, GeometryDerivatives& out) const;
 
   GoughGeometry geometry_;
   bool uncertain_;
