@@ -1,14 +1,18 @@
 // Verifier scenarios on the reference robots; prints one table row per scenario with boxes, seconds, verdict and
 // peak memory. Usage: verifier_bench [time_limit_s] [all|nominal|uncertainty] [rounds]
+// [default|combined|decomposed|both]
 //   time_limit_s: per scenario (default 120: the long scenarios stop there, UNDECIDED);
 //   the second argument selects the scenarios: all (default), nominal (no anchor uncertainty), or uncertainty (the
 //   anchor-uncertainty rows of issue #5 only);
 //   rounds: how many times the anchor-uncertainty cases run, in turn (h = 0, 0.5, 1 mm, h = 0, ...; default 3), so
-//   that the ratios are taken from each case's fastest run (this shared VM's wall times swing 2x with other load).
+//   that the ratios are taken from each case's fastest run (this shared VM's wall times swing 2x with other load);
+//   the last argument: the geometry form of the uncertain cases (VerifierOptions::decompose_geometry; default: the
+//   library's default; both: each uncertain case with each form, in turn, in every round).
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include <sys/resource.h>
@@ -69,7 +73,8 @@ void printVec(const char* label, const DVec& v) {
 /// Thresholds 5% above each case's own maxima over poses and geometries (sampled, bench::sampledMaximaOverGeometry),
 /// 2 threads; time ratio of each uncertain case to h = 0 in the same run, `rounds` times in turn, then the ratios of
 /// the fastest runs (wall and CPU time). Then max-error at h = 0.5 mm, alpha 2%.
-void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& paper, double limit, int rounds) {
+void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& paper, double limit, int rounds,
+                          const std::vector<int>& forms) {
   constexpr int kRandomPoses = 10000;
   std::printf(
       "\n-- anchor uncertainty (issue #5): paper workspace, thresholds = 1.05 x that case's maxima over poses\n"
@@ -108,12 +113,27 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
   }
   std::printf("%-34s %-10s %-21s %10s %9s %9s %8s %8s %7s %8s\n", "scenario (2 threads)", "verdict", "reason", "boxes",
               "seconds", "cpu_s", "switches", "gsplits", "xh=0", "peakMiB");
-  std::vector<double> bestWall(cases.size(), 0.0), bestCpu(cases.size(), 0.0);
-  std::vector<bool> finished(cases.size(), true);
+  // Runs: h = 0 once, then each uncertain case with each form (-1: the library's default, 0 combined, 1 decomposed).
+  struct Run {
+    std::size_t c;
+    int form;
+  };
+  std::vector<Run> runs;
+  for (std::size_t c = 0; c < cases.size(); ++c)
+    for (std::size_t f = 0; f < (cases[c] == 0.0 ? 1 : forms.size()); ++f) runs.push_back({c, forms[f]});
+  std::vector<double> bestWall(runs.size(), 0.0), bestCpu(runs.size(), 0.0);
+  std::vector<bool> finished(runs.size(), true);
+  const auto runName = [&](const Run& run) {
+    char name[80];
+    const char* form = run.form < 0 || cases[run.c] == 0.0 ? "" : (run.form == 0 ? ", comb." : ", decomp.");
+    std::snprintf(name, sizeof name, "paper +5%%, anchors +-%.1f mm%s", cases[run.c] * 1e3, form);
+    return std::string(name);
+  };
   for (int round = 0; round < rounds; ++round) {
     if (rounds > 1) std::printf("  round %d of %d\n", round + 1, rounds);
     double reference = 0.0;
-    for (std::size_t c = 0; c < cases.size(); ++c) {
+    for (std::size_t x = 0; x < runs.size(); ++x) {
+      const std::size_t c = runs[x].c;
       const double h = cases[c];
       model::GoughGeometry g = ref.geometry;
       g.setUniformAnchorUncertainty(h);
@@ -122,17 +142,16 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
       o.time_limit_s = limit;
       o.threads = 2;
       o.thresholds = maxima[c] * 1.05;
+      if (runs[x].form >= 0) o.decompose_geometry = runs[x].form == 1;
       const double cpu0 = cpuSeconds();
       const verify::VerifierResult r = verify::Verifier::run(robot, paper, o);
       const double cpu = cpuSeconds() - cpu0;
-      char name[80];
-      std::snprintf(name, sizeof name, "paper +5%%, anchors +-%.1f mm", h * 1e3);
-      urow(name, r, h == 0.0 ? 0.0 : reference, cpu);
+      urow(runName(runs[x]).c_str(), r, h == 0.0 ? 0.0 : reference, cpu);
       std::printf("  (load average after it: %s)\n", bench::loadAverage().c_str());
       if (h == 0.0) reference = r.verdict == verify::Verdict::Safe ? r.stats.seconds : 0.0;
-      finished[c] = finished[c] && r.verdict == verify::Verdict::Safe;
-      if (round == 0 || r.stats.seconds < bestWall[c]) bestWall[c] = r.stats.seconds;
-      if (round == 0 || cpu < bestCpu[c]) bestCpu[c] = cpu;
+      finished[x] = finished[x] && r.verdict == verify::Verdict::Safe;
+      if (round == 0 || r.stats.seconds < bestWall[x]) bestWall[x] = r.stats.seconds;
+      if (round == 0 || cpu < bestCpu[x]) bestCpu[x] = cpu;
     }
   }
   std::printf(
@@ -140,10 +159,10 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
       "  seed paper 10 / 23 / 42 min, i.e. 2.3 and 4.2\n");
   if (rounds > 1 && finished[0]) {
     std::printf("  fastest of %d rounds (ratios to h=0; \">=\": a round did not finish):\n", rounds);
-    for (std::size_t c = 0; c < cases.size(); ++c) {
-      const char* atLeast = finished[c] ? "" : ">=";
-      std::printf("    anchors +-%.1f mm: wall %.3f s (%s%.2fx), cpu %.3f s (%s%.2fx)\n", cases[c] * 1e3, bestWall[c],
-                  atLeast, bestWall[c] / bestWall[0], bestCpu[c], atLeast, bestCpu[c] / bestCpu[0]);
+    for (std::size_t x = 0; x < runs.size(); ++x) {
+      const char* atLeast = finished[x] ? "" : ">=";
+      std::printf("    %s: wall %.3f s (%s%.2fx), cpu %.3f s (%s%.2fx)\n", runName(runs[x]).c_str() + 11, bestWall[x],
+                  atLeast, bestWall[x] / bestWall[0], bestCpu[x], atLeast, bestCpu[x] / bestCpu[0]);
     }
   }
 
@@ -157,6 +176,7 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
   m.alpha = 0.02;
   m.time_limit_s = limit;
   m.threads = 2;
+  if (forms.size() == 1 && forms[0] >= 0) m.decompose_geometry = forms[0] == 1;
   const verify::VerifierResult r = verify::Verifier::run(robot, paper, m);
   urow("paper max-error 2%, +-0.5 mm", r, 0.0);
   std::printf("  (load average after it: %s)\n", bench::loadAverage().c_str());
@@ -181,8 +201,16 @@ int main(int argc, char** argv) {
   const double limit = argc > 1 ? std::atof(argv[1]) : 120.0;
   const std::string group = argc > 2 ? argv[2] : "all";
   const int rounds = argc > 3 ? std::atoi(argv[3]) : 3;
-  if ((group != "all" && group != "nominal" && group != "uncertainty") || rounds < 1) {
-    std::fprintf(stderr, "usage: verifier_bench [time_limit_s] [all|nominal|uncertainty] [rounds >= 1]\n");
+  const std::string form = argc > 4 ? argv[4] : "default";
+  std::vector<int> forms;
+  if (form == "default") forms = {-1};
+  if (form == "combined") forms = {0};
+  if (form == "decomposed") forms = {1};
+  if (form == "both") forms = {0, 1};
+  if ((group != "all" && group != "nominal" && group != "uncertainty") || rounds < 1 || forms.empty()) {
+    std::fprintf(stderr,
+                 "usage: verifier_bench [time_limit_s] [all|nominal|uncertainty] [rounds >= 1] "
+                 "[default|combined|decomposed|both]\n");
     return 2;
   }
   const io::RobotFile ref = io::loadRobotFile(bench::sourceDir() + "/config/ref6.yaml");
@@ -193,7 +221,7 @@ int main(int argc, char** argv) {
   const domain::Workspace& fixedWs = tiny.workspaces.at("fixed_orientation");
   if (group == "uncertainty") {
     std::printf("time limit per scenario: %.0f s\n", limit);
-    uncertaintyScenarios(ref, paper, limit, rounds);
+    uncertaintyScenarios(ref, paper, limit, rounds, forms);
     return 0;
   }
 
@@ -254,6 +282,6 @@ int main(int argc, char** argv) {
   for (int k = 0; k < 6; ++k) std::printf("[%.6g, %.6g] ", tinyMax.max_lower[k], tinyMax.max_upper[k]);
   std::printf("\n");
 
-  if (group == "all") uncertaintyScenarios(ref, paper, limit, rounds);
+  if (group == "all") uncertaintyScenarios(ref, paper, limit, rounds, forms);
   return 0;
 }

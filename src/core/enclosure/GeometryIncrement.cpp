@@ -282,8 +282,6 @@ GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::
 }
 
 bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const {
-  Form b[kMaxGeometryParameters];
-  for (int q = 0; q < params_; ++q) b[q] = Form(0.0);
   DMat rowB0 = DMat::Zero(n_, 1);  // >= |Delta M w|_i = |delta r_i . w|
   Form dws[GeometryDerivatives::kCapacity];
   columnDots(w, ssy, sy, dws);
@@ -292,9 +290,37 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
   // (second order in the geometry), bounded in magnitude: sum_e h_e |J0_{k,row(e)}| parameterDots(w)_e.
   double cross = 0.0, kw[GeometryDerivatives::kCapacity];
   parameterDots(w, kw);
+  // b_p = sum over p's entries of J0_{k,row(e)} dws_e, the products of interval::AffineForm (the square terms' mean
+  // to the centre) summed per parameter in arrays: every centre and coefficient is a sum of at most 8 products and
+  // sums per entry, at most 6 entries per parameter, so its rounding error is below 1e-14 times the sum of the
+  // magnitudes of its terms (berr); the radius terms are >= 0 and up() covers their relative rounding.
+  double bc[kMaxGeometryParameters], ba[kMaxDof][kMaxGeometryParameters], br[kMaxGeometryParameters];
+  double berr[kMaxGeometryParameters];
+  for (int q = 0; q < params_; ++q) {
+    bc[q] = br[q] = berr[q] = 0.0;
+    for (int m = 0; m < kMaxDof; ++m) ba[m][q] = 0.0;
+  }
   for (int e = 0; e < entries_; ++e) {
-    b[param_[e]] += j0_[k][row_[e]] * dws[e];
-    rowB0(row_[e], 0) += entryH_[e] * up(mag(dws[e]) + kw[e]);
+    const Form& x = j0_[k][row_[e]];
+    const Form& y = dws[e];
+    const int q = param_[e];
+    const double xc = x.centre(), yc = y.centre(), axc = std::abs(xc), ayc = std::abs(yc);
+    double half = 0.0, halfMag = 0.0, err = 0.0, sx = x.radius(), sy2 = y.radius();
+    for (int m = 0; m < kMaxDof; ++m) {
+      const double xm = x.coefficient(m), ym = y.coefficient(m);
+      ba[m][q] += xc * ym + yc * xm;
+      const double d = xm * ym;
+      half += d;
+      halfMag += std::abs(d);
+      err += axc * std::abs(ym) + ayc * std::abs(xm);
+      sx += std::abs(xm);
+      sy2 += std::abs(ym);
+    }
+    const double c = xc * yc + 0.5 * half;
+    bc[q] += c;
+    br[q] += axc * y.radius() + ayc * x.radius() + (sx * sy2 - 0.5 * (1.0 - 1e-14) * halfMag);
+    berr[q] += err + std::abs(xc * yc) + std::abs(c) + 2.0 * halfMag + std::abs(bc[q]);
+    rowB0(row_[e], 0) += entryH_[e] * up(mag(y) + kw[e]);
     cross += entryH_[e] * up(magJ0_[k][row_[e]] * kw[e]);
   }
   // B_i >= |delta r_i . y|, y = J u = w - J0 Delta M y: |Delta M y| <= B0 + A |Delta M y|.
@@ -302,17 +328,46 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
   DMat rowB;
   if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, rowB0, rowB)) return false;
   // First order: max over gamma of sum_q gamma_q h_q b_q = sum_q h_q |b_q| <= sum_q (weight_q b_q + offset_q).
-  out.linear = Form(0.0);
+  // The parameters whose b_q has a certain sign have exact secants (weight +-h_q, offset 0): the others (ranges
+  // across 0) are also kept as they are (Row::straddling), for the exact maximum at the vertices. The sums of
+  // weight_q b_q (linear, fixed) in arrays too: at most 48 terms each, rounding below 1e-14 times their magnitudes.
+  double lc[2] = {0.0, 0.0}, la[2][kMaxDof] = {}, lr[2] = {0.0, 0.0}, lerr[2] = {0.0, 0.0};
+  out.straddling = 0;
   out.params = params_;
   double constant = 0.0, magnitude = 0.0;
   for (int q = 0; q < params_; ++q) {
-    const Interval range = b[q].toInterval();
+    double dev = 0.0, coefficients[kMaxDof];
+    for (int m = 0; m < kMaxDof; ++m) {
+      coefficients[m] = ba[m][q];
+      dev += std::abs(ba[m][q]);
+    }
+    const double radius = up(br[q] + 1e-14 * berr[q]);
+    dev = up(dev + radius);
+    const Interval range(interval::rounding::subDown(bc[q], dev), interval::rounding::addUp(bc[q], dev));
     const interval::AbsSecant secant = interval::absSecant(range, h_[q]);
-    out.linear += b[q] * secant.weight;
+    const double weight = secant.weight;
+    const bool straddles = range.lower() < 0.0 && range.upper() > 0.0;
+    for (int part = 0; part < (straddles ? 1 : 2); ++part) {  // (0: linear, every q; 1: fixed, the others)
+      const double t = weight * bc[q];
+      lc[part] += t;
+      lerr[part] += std::abs(t);
+      for (int m = 0; m < kMaxDof; ++m) {
+        const double u = weight * ba[m][q];
+        la[part][m] += u;
+        lerr[part] += std::abs(u);
+      }
+      lr[part] += std::abs(weight) * radius;
+    }
+    if (straddles) {
+      out.straddle[out.straddling] = Form::fromParts(bc[q], coefficients, radius);
+      out.straddleH[out.straddling++] = h_[q];
+    }
     constant += secant.offset;
     magnitude += h_[q] * range.mag();
-    out.coefficient[q] = -h_[q] * b[q].centre();
+    out.coefficient[q] = -h_[q] * bc[q];
   }
+  out.linear = Form::fromParts(lc[0], la[0], up(lr[0] + 1e-14 * lerr[0]));
+  out.fixed = Form::fromParts(lc[1], la[1], up(lr[1] + 1e-14 * lerr[1]));
   // Second order: sum_i |J0_ki| sum_i' A_ii' B_i'.
   double second = 0.0;
   for (int i = 0; i < n_; ++i) {
@@ -321,6 +376,7 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
     second += magJ0_[k][i] * up(s);
   }
   second = up(up(second) + up(cross));
+  out.second = second;
   out.constant = up(up(constant) + second);
   out.magnitude = up(up(magnitude) + second);
   return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);

@@ -33,6 +33,43 @@ inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
 /// Only the components in `rows` (a subset of box.rows) are bounded. The geometry directions certified for a row
 /// are added to out.faces (which the caller initialised).
 /// @return false if the affine form cannot be built (then the interval path runs instead).
+/// At most this many straddling parameters for upperAtVertices() (its cost is 2^vars times their number).
+constexpr int kMaxVertexTerms = kMaxGeometryParameters;
+
+/// Upper bound of a decomposed column from the nominal column at g0 and its increase split as in
+/// GeometryIncrement::Row: the maximum over the vertices of the pose symbols' box of the convex function
+///   nominal(tau) + fixed(tau) + sum_s h_s |straddle_s(tau)|
+/// (exact, where the secants of |straddle_s| lose their offsets at the box's inner points), plus every radius and
+/// the second-order constant. Computed in double: every vertex value is a sum of at most 7 (1 + kMaxDof + the
+/// straddling terms) products and sums of the terms counted in `scale`, so its rounding error is below 1e-13 scale.
+double upperAtVertices(const AffineInverseAction::Combination& nominal, const GeometryIncrement::Row& r, int vars) {
+  double scale = std::abs(nominal.centre) + std::abs(r.fixed.centre());
+  double slope[kMaxDof];
+  for (int i = 0; i < vars; ++i) {
+    slope[i] = nominal.pose[i] + r.fixed.coefficient(i);
+    scale += std::abs(nominal.pose[i]) + std::abs(r.fixed.coefficient(i));
+  }
+  double radii = nominal.radius + r.fixed.radius() + r.second;
+  for (int s = 0; s < r.straddling; ++s) {
+    scale += r.straddleH[s] * r.straddle[s].deviation() + r.straddleH[s] * std::abs(r.straddle[s].centre());
+    radii += r.straddleH[s] * r.straddle[s].radius();
+  }
+  double best = -std::numeric_limits<double>::infinity();
+  for (int v = 0; v < (1 << vars); ++v) {
+    double value = nominal.centre + r.fixed.centre();
+    for (int i = 0; i < vars; ++i) value += (v >> i) & 1 ? slope[i] : -slope[i];
+    for (int s = 0; s < r.straddling; ++s) {
+      const GeometryIncrement::Form& b = r.straddle[s];
+      double x = b.centre();
+      for (int i = 0; i < vars; ++i) x += (v >> i) & 1 ? b.coefficient(i) : -b.coefficient(i);
+      value += r.straddleH[s] * std::abs(x);
+    }
+    best = std::max(best, value);
+  }
+  const double result = best + up(up(radii) + 1e-13 * scale);
+  return std::isfinite(result) ? interval::rounding::nextUp(result) : std::numeric_limits<double>::infinity();
+}
+
 bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned rows, ErrorBounds& out) {
   const auto wants = [rows](int k) { return ((rows >> k) & 1u) != 0; };
   // Measured on the paper workspace at +-0.5 mm (bench/RESULTS.md): 2 and 1e-2 beat 1 / 3 and 2e-3 by 1.3-1.7x.
@@ -231,6 +268,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         double first = 0.0;
         const double centreAtG0 = comb.centre;
         GeometryIncrement::Row r;
+        AffineInverseAction::Combination nominal;  // (decomposed: the column at g0)
         // (Decomposed: the box is split whatever this column's increase, which is then bounded coarsely.)
         bool doomed = false;
         if (decomposed) {
@@ -257,6 +295,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
             }
             if (!increment.bound(k, w, ssy, sy, r)) return false;
           }
+          nominal = comb;
           double err = std::abs(comb.centre) + std::abs(r.linear.centre());
           comb.centre += r.linear.centre();
           for (int i = 0; i < vars; ++i) {
@@ -279,6 +318,9 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target,
         // unless an earlier column of the row has missed it already (the row is undecided whatever this one gives).
         double columnUpper = comb.upper();
+        if (decomposed && !doomed && r.straddling > 0 && r.straddling <= kMaxVertexTerms &&
+            (!targeted || misses(k, columnUpper)))
+          columnUpper = std::min(columnUpper, upperAtVertices(nominal, r, vars));
         if (nv.bilinear && (!targeted || (!missed[k] && misses(k, columnUpper))))
           columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
         missed[k] = missed[k] || misses(k, columnUpper);

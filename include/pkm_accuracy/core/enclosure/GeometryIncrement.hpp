@@ -22,15 +22,22 @@
 // point of |J0| A + |J0| |Delta M| DJ (Delta J = -J0 Delta M J0 - J0 Delta M Delta J), which also decides which entries
 // keep their signs over Q x G (|J0_kj| > DJ_kj) and bounds the others' e_j |Delta J_kj|.
 //
+// Refinements (docs/uncertainty.md, "Decomposed form"): the part S S y of w's radius (the nominal expansion's pose
+// remainder) enters dbar_e . w as |dbar_e^T S| |S y| where that is smaller (columnDots); with the model's
+// parameter terms (GeometryDerivatives::withParameterSlopes) dbar_e = (pose form) + sum_s kappa_s gamma'_s / 2 + its
+// remainder, and the products gamma_p gamma'_s are bounded apart (parameterDots) instead of widening dbar_e;
+// rowBound() is the coarse bound for rows that are split anyway, and Row::fixed / straddle let the caller take the
+// exact maximum of the first-order part over the pose vertices.
+//
 // Why: the combined form (AffineInverseAction with the geometry) expands N = (C J^-1(t, g))^-1 around the pose AND
 // the geometry at once, so its remainder carries the products of pose and geometry deviations through the inverse
 // (|L S y|, |S L y|, |L L y|, ...), each bounded in magnitude; here the nominal part keeps the nominal remainder and
 // the geometry part is exact to first order in the geometry with a remainder of second order in h. With the
 // increment known exactly to first order (an unsound point estimate, bench/patches/point_increment_oracle.patch) the
-// search would need fewer boxes at +-1 mm than the nominal case; as built, the radii of the affine forms of J0 and
-// w (the nominal expansion's pose remainder) enter the strongly cancelling dot products dbar_p . w in magnitude, and
-// it needs about as many boxes as the combined form (bench/RESULTS.md, "Session 19"). Hence an option
-// (VerifierOptions::decompose_geometry), not the default.
+// search would need fewer boxes at +-1 mm than the nominal case; as built (session 20) it needs 64 831 boxes at
+// +-1 mm and 34 443 at +-0.5 mm against the combined form's 79 887 and 35 719 (bench/RESULTS.md): the radii of the
+// forms of w and J0 (the nominal expansion's remainder) still enter the strongly cancelling dot products
+// dbar_p . w in magnitude, and so the second-order sum and the secants.
 //
 // Rounding: the affine forms' arithmetic (interval::AffineForm) is rigorous; the non-negative bounds are sums of
 // products computed in double and rounded up with a relative margin of 1e-12 (sums of at most 64 products have
@@ -54,6 +61,15 @@ class GeometryIncrement {
     Form linear;
     double constant = 0.0;   ///< secant offsets and the second-order sum (>= 0, rounded up)
     double magnitude = 0.0;  ///< (for lower bounds valid for every geometry)
+    /// The same bound split for an exact maximum over the pose symbols (MeanValueEnclosure): e_k^T Delta J u <=
+    /// fixed(tau) + sum_s straddleH[s] |straddle[s](tau)| + second, `fixed` the secant terms of the parameters whose
+    /// b_q keeps its sign (exact), straddle[s] the b_q whose range contains 0 (their secants, offsets included, are
+    /// in `linear` and `constant`). A convex function of tau: its maximum over the box is at a vertex.
+    Form fixed;
+    Form straddle[kMaxGeometryParameters];
+    double straddleH[kMaxGeometryParameters];
+    int straddling = 0;
+    double second = 0.0;
     /// Centre of the coefficient of gamma_p = (g_p - g0_p) / h_p in the first-order part (hints; not certified).
     double coefficient[kMaxGeometryParameters];
     int params = 0;
