@@ -77,8 +77,8 @@ struct GeometryRowDerivative {
   /// form also has terms in the geometry parameters of the row's leg, and `radius` is then only its remainder: for
   /// every pose of the box and every admissible geometry, component l of d lies in
   ///   centre[l] + sum_m slope[l][m] tau_m + sum_s parameterSlope[l][s] gamma_s + [-radius[l], radius[l]],
-  /// gamma_s = (g_q - g0_q) / scale[s] in [-1, 1] for the parameter q = slopeParameter[s] (s unused where it is -1),
-  /// g0 the centre of the parameters' ranges (RobotModel::geometryParameterCentre).
+  /// gamma_s = (g_q - g0_q) / parameterScale[s] in [-1, 1] for the parameter q = slopeParameter[s] (s unused where it
+  /// is -1), g0 the centre of the parameters' ranges (RobotModel::geometryParameterCentre).
   bool parameterSlopes = false;
   std::array<int, kMaxDof> slopeParameter;
   std::array<double, kMaxDof> parameterScale;
