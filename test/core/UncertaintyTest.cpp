@@ -1202,6 +1202,102 @@ TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
   EXPECT_GT(worstRest, 0.15);
 }
 
+TEST(UncertaintyAffineInverseAction, PoseTermsBoundTheSlopesRadiiInDotProducts) {
+  // AffineMatrix::poseTerms (apply(v, a, forBounds, true): what the decomposed form's dot products d . w use for the
+  // part of w's radius due to the pose slopes' radii): with X(t) = E(t, g0) - E(t0, g0) - sum_i dm_i (t_i - t0_i)
+  // (E = C J^-1 - I at the nominal geometry, dm_i the slopes' midpoints), for every pose t of the box
+  //   |X v|_k <= poseDr_k   and, for every vector d,   |d . X v| <= sum_p weight_p |d . hv_p| + |d| . poseRest.
+  // X in MPFR at random poses and vertices of boxes of 1/4 .. 1/64 of the paper workspace; d random and the model's
+  // geometry derivatives (the vectors GeometryIncrement uses). The largest |d . X v| must reach a good part of its
+  // bound (not vacuous), and the structured bound must be below |d| . poseDr for most d (the point of it).
+  const io::RobotFile rf = test::ref6File();
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const Uncertain u(withUncertainty(0.001));
+  const model::GoughPlatform robot(u.geometry);
+  std::mt19937_64 rng(1213);
+  int checked = 0, tighter = 0;
+  double worst = 0.0, worstDr = 0.0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const double fraction = trial % 3 == 0 ? 0.25 : (trial % 3 == 1 ? 1.0 / 16.0 : 1.0 / 64.0);
+    const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::AffineInverseAction act;
+    ASSERT_TRUE(act.prepare(robot, in, false));
+    GeometryDerivatives geo;
+    ASSERT_TRUE(robot.geometryDerivatives(in.pose, geo));
+    const DMat& c = act.preconditioner();
+    IMat v(6, 2);
+    for (int i = 0; i < 6; ++i) {
+      v(i, 0) = Interval(c(i, 0) - c(i, 1) + c(i, 2) - c(i, 3) + c(i, 4) - c(i, 5));
+      v(i, 1) = Interval(c(i, trial % 6));
+    }
+    enclosure::AffineInverseAction::AffineMatrix a;
+    ASSERT_TRUE(act.apply(v, a, trial % 2 == 0, true));
+    ASSERT_TRUE(a.poseTerms);
+    DVec t0(6);
+    for (int i = 0; i < 6; ++i) t0[i] = in.centrePose[i].mid();
+    const MpMat jinv0 = mpInverseJacobian(u.at(u.nominal), t0);
+    for (int s = 0; s < 6; ++s) {
+      const DVec t = s % 2 ? randomVertexOf(box, rng) : test::randomPoint(box, rng);
+      const MpMat jinv = mpInverseJacobian(u.at(u.nominal), t);
+      // X v in MPFR, then rounded to double.
+      double xv[6][2];
+      for (int k = 0; k < 6; ++k)
+        for (int j = 0; j < 2; ++j) {
+          Mp acc(0.0);
+          for (int m = 0; m < 6; ++m) {
+            Mp x(0.0);
+            for (int q = 0; q < 6; ++q) x = x + Mp(c(k, q)) * (jinv[q][m] - jinv0[q][m]);
+            for (int i = 0; i < 6; ++i) x = x - Mp(act.poseSlopeMid(i)(k, m)) * Mp(t[i] - t0[i]);
+            acc = acc + x * Mp(v(m, j).mid());
+          }
+          xv[k][j] = toDouble(acc);
+        }
+      std::vector<DVec> ds;
+      for (int q = 0; q < 4; ++q) {
+        DVec d(6);
+        for (int l = 0; l < 6; ++l) d[l] = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+        ds.push_back(d);
+      }
+      for (int e = 0; e < geo.count; e += 5) {
+        DVec d(6);
+        for (int l = 0; l < 6; ++l) d[l] = geo.entries[e].centre[l];
+        ds.push_back(d);
+      }
+      for (int j = 0; j < 2; ++j) {
+        for (int k = 0; k < 6; ++k) {
+          ASSERT_LE(std::abs(xv[k][j]), a.poseDr(k, j) * (1 + 1e-9) + 1e-300) << "k " << k << " trial " << trial;
+          if (a.poseDr(k, j) > 0.0) worstDr = std::max(worstDr, std::abs(xv[k][j]) / a.poseDr(k, j));
+        }
+        for (const DVec& d : ds) {
+          double lhs = 0.0, mag = 0.0, rhs = 0.0, plain = 0.0;
+          for (int k = 0; k < 6; ++k) {
+            lhs += d[k] * xv[k][j];
+            mag += std::abs(d[k] * xv[k][j]);
+            rhs += std::abs(d[k]) * a.poseRest(k, j);
+            plain += std::abs(d[k]) * a.poseDr(k, j);
+          }
+          for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+            double dot = 0.0;
+            for (int k = 0; k < 6; ++k) dot += d[k] * a.hv[p](k, j);
+            rhs += a.pairWeight[p] * std::abs(dot);
+          }
+          ASSERT_LE(std::abs(lhs), rhs * (1 + 1e-9) + 1e-12 * mag + 1e-300) << "trial " << trial << " j " << j;
+          if (rhs > 0.0) worst = std::max(worst, std::abs(lhs) / rhs);
+          if (rhs < plain) ++tighter;
+          ++checked;
+        }
+      }
+    }
+  }
+  std::cout << "[ info     ] largest |d . X v| / its structured bound " << worst << ", |X v| / poseDr " << worstDr
+            << "; structured bound below |d| . poseDr in " << tighter << " of " << checked << " checks\n";
+  EXPECT_GT(worst, 0.1);
+  EXPECT_GT(worstDr, 0.1);
+  EXPECT_GT(tighter, checked / 2);
+}
+
 TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
   // The bilinear form of apply(v, a, true) (bilinearCoefficients(), upperBilinear()) at vertices and interior points
   // of pose boxes and of the geometry box, against N V and L L y computed in MPFR:
