@@ -246,14 +246,12 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     split(multiplyMidRad(c_, centred ? hessian.first[i] : poseD.d[i]), dm_[i], dr_[i]);
     devMag_[i] = box.deviation[i].mag();
   }
-  std::array<DMat, kMaxDof> crCentre;  // the centre derivatives' radii (AffineMatrix::poseTerms)
-  std::array<DMat, kMaxDof> tm, tr;    // Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (below)
+  std::array<DMat, kMaxDof> tm, tr;  // Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (below)
   for (int i = 0; i < vars_; ++i) {
     if (centred) {
       DMat cm, cr, m, r;
       split(atCentre.first[i], m, r);
       product(c_, zero, m, r, cm, cr);
-      crCentre[i] = cr;
       DMat half = cr;  // the Taylor slope's radius (below)
       for (int l = 0; l < n_; ++l) {
         const int p = MatrixHessian::index(i, l);
@@ -281,7 +279,6 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // the centred range above. T_i is a slope for expansions at the box centre, not a range of D_i, so for each entry
   // (k, j) either every T_i(k, j) or every range D_i(k, j) is used (each choice is a valid representation of that
   // entry of E(t, g0) - E0): the one with the smaller sum_i radius dev_i.
-  DMat taylor = DMat::Zero(n_, n_);  // 1 where the entry's slopes are the Taylor ones
   if (centred) {
     for (int k = 0; k < n_; ++k) {
       for (int l = 0; l < n_; ++l) {
@@ -291,24 +288,11 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
           taylorCost += tr[i](k, l) * devMag_[i];
         }
         if (!(taylorCost < rangeCost)) continue;
-        taylor(k, l) = 1.0;
         for (int i = 0; i < vars_; ++i) {
           dm_[i](k, l) = tm[i](k, l);
           dr_[i](k, l) = tr[i](k, l);
         }
       }
-    }
-  }
-  taylorTerms_ = centred && vars_ == n_;
-  if (taylorTerms_) {
-    const DMat other = DMat::Ones(n_, n_) - taylor;
-    for (int p = 0; p < MatrixHessian::kPairs; ++p) {
-      hmT_[p] = hm[p].cwiseProduct(taylor);
-      hrT_[p] = hr[p].cwiseProduct(taylor);
-    }
-    for (int i = 0; i < vars_; ++i) {
-      crT_[i] = crCentre[i].cwiseProduct(taylor);
-      drR_[i] = dr_[i].cwiseProduct(other);
     }
   }
   for (int i = 0; i < vars_; ++i) {
@@ -499,7 +483,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
 
 bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const { return fixedPoint(magE_, q_, rhs, z); }
 
-bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds, bool poseTerms) const {
+bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds) const {
   const int m = static_cast<int>(v.cols());
   DMat vm, vr;
   split(v, vm, vr);
@@ -736,32 +720,6 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   out.ll = ll;
   out.ssy = ssy;
   out.sy = sy;
-  out.poseTerms = poseTerms && taylorTerms_;
-  if (out.poseTerms) {
-    // sum_i dt_i (T_i - dm_i) v_m = sum_i dt_i (T_i - dm_i)|other v_m + sum_i dt_i (D_i(t0) - cm_i)|taylor v_m
-    //   + sum_{i,l} dt_i dt_l Hbar_il|taylor v_m,   Hbar_il = int_0^1 (1 - s) C H_il(t0 + s dt) ds in [C H_il(box)] / 2
-    // (the same matrix for (i, l) and (l, i)): with hv[p] = hmT_p v_m computed in double (off by less than
-    // 1e-14 |hmT_p| |v_m|), |d . Hbar_il v_m| <= (|d . hv[p]| + |d| . (hrT_p |v_m| + 1e-14 |hmT_p| |v_m|)) / 2.
-    const DMat absVm = vm.cwiseAbs();
-    DMat rest = DMat::Zero(n_, m), dr = DMat::Zero(n_, m);
-    for (int i = 0; i < vars_; ++i) {
-      rest += (crT_[i] + drR_[i]) * absVm * devMag_[i];
-      dr += dr_[i] * absVm * devMag_[i];
-    }
-    out.hvMag = DMat::Zero(n_, m);
-    for (int i = 0; i < vars_; ++i)
-      for (int l = i; l < vars_; ++l) {
-        const int p = MatrixHessian::index(i, l);
-        const double weight = 0.5 * (i == l ? 1.0 : 2.0) * devMag_[i] * devMag_[l];
-        out.pairWeight[p] = weight;
-        out.hv[p] = hmT_[p] * vm;
-        out.hvMag += out.hv[p].cwiseAbs() * weight;
-        rest += (hrT_[p] * absVm + 1e-14 * (hmT_[p].cwiseAbs() * absVm)) * weight;
-      }
-    out.hvMag = upAll(out.hvMag);
-    out.poseRest = upAll(DMat(upAll(rest) * (1.0 + 1e-12)));
-    out.poseDr = upAll(dr);
-  }
   out.cross = upAll(DMat(sly + lsy));
   // Affine forms (N V = Y0 - sum_i D_i V dev_i - sum_p G_p V dev_p + E^2 N V). Pose terms -(D_i V)(k, j) (t_i - t0_i)
   // = -[pm +- pr] devMag tau_i: coefficient -pm devMag, the rest

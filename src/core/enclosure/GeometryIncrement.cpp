@@ -122,8 +122,7 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
       ssy[l] = j0.ssy(l, j);
       sy[l] = j0.sy(l, j);
     }
-    PoseColumn pose;
-    columnDots(column, ssy, sy, poseColumn(j0, j, pose) ? &pose : nullptr, out);
+    columnDots(column, ssy, sy, out);
     parameterDots(column, kw);
     for (int e = 0; e < entries_; ++e) {
       magDc_[e][j] = up(mag(out[e]) + kw[e]);
@@ -230,53 +229,24 @@ void GeometryIncrement::rowBound(int k, Row& out) const {
   for (int p = 0; p < params_; ++p) out.coefficient[p] = 0.0;
 }
 
-bool GeometryIncrement::poseColumn(const AffineInverseAction::AffineMatrix& a, int j, PoseColumn& out) {
-  if (!a.poseTerms || j < 0 || j >= a.cols) return false;
-  for (int p = 0; p < MatrixHessian::kPairs; ++p) out.hv[p] = &a.hv[p](0, j);
-  out.weight = a.pairWeight;
-  out.hvMag = &a.hvMag(0, j);
-  out.rest = &a.poseRest(0, j);
-  out.dr = &a.poseDr(0, j);
-  return true;
-}
-
-void GeometryIncrement::columnDots(const Form* w, const double* ssy, const double* sy, const PoseColumn* pose,
-                                   Form* out) const {
-  // w_l = (its affine form without ssy_l and the slopes' radii in the radius) + x_l + z_l, |x_l| <= ssy_l, x = S S y:
-  // |dbar_e . x| <= min(sum_l |dbar_e|_l ssy_l, sum_l |dbar_e^T S|_l sy_l); z = -sum_i dt_i (T_i - dm_i) v, |z_l| <=
-  // dr_l (AffineMatrix::poseDr): |dbar_e . z| <= min(|dbar_e| . dr, the Hessians' dot products, poseTerms).
+void GeometryIncrement::columnDots(const Form* w, const double* ssy, const double* sy, Form* out) const {
+  // w_l = (its affine form without ssy_l in the radius) + x_l, |x_l| <= ssy_l, x = S S y: |dbar_e . x| <= min(sum_l
+  // |dbar_e|_l ssy_l, sum_l |dbar_e^T S|_l sy_l).
   Form reduced[kMaxDof];
   double coefficients[kMaxDof];
   for (int l = 0; l < n_; ++l) {
     if (!(ssy[l] >= 0.0) || !(ssy[l] <= w[l].radius())) return dots(w, out);
     for (int m = 0; m < kMaxDof; ++m) coefficients[m] = w[l].coefficient(m);
-    double r = interval::rounding::subUp(w[l].radius(), ssy[l]);
-    // (A lower bound of sum_i dev_i dr_i |v_m|: poseDr is that sum computed in double and rounded up.)
-    if (pose) r = std::max(0.0, interval::rounding::subUp(r, std::max(0.0, pose->dr[l] * (1.0 - 3e-12) - 1e-290)));
-    reduced[l] = Form::fromParts(w[l].centre(), coefficients, r);
+    reduced[l] = Form::fromParts(w[l].centre(), coefficients, interval::rounding::subUp(w[l].radius(), ssy[l]));
   }
   dots(reduced, out);
   for (int e = 0; e < entries_; ++e) {
-    double plain = 0.0, structured = 0.0, plainPose = 0.0, structuredPose = 0.0;
+    double plain = 0.0, structured = 0.0;
     for (int l = 0; l < n_; ++l) {
-      const double c = std::abs(dC_[l][e]), dev = dDev_[l][e] + dDevK_[l][e];
-      plain += (c + dev) * ssy[l];
+      plain += (std::abs(dC_[l][e]) + dDev_[l][e] + dDevK_[l][e]) * ssy[l];
       structured += dS_[l][e] * sy[l];
-      if (pose) {
-        plainPose += (c + dev) * pose->dr[l];
-        structuredPose += dev * pose->hvMag[l] + (c + dev) * pose->rest[l] + 1e-14 * c * pose->hvMag[l];
-      }
     }
-    if (pose) {
-      // sum_p weight_p |c_e . hv_p| (each dot product in double off by less than 1e-14 |c_e| . |hv_p|, above).
-      for (int p = 0; p < MatrixHessian::kPairs; ++p) {
-        const double* h = pose->hv[p];
-        double dot = 0.0;
-        for (int l = 0; l < n_; ++l) dot += dC_[l][e] * h[l];
-        structuredPose += pose->weight[p] * std::abs(dot);
-      }
-    }
-    const double extra = up(up(std::min(plain, structured)) + (pose ? up(std::min(plainPose, structuredPose)) : 0.0));
+    const double extra = up(std::min(plain, structured));
     for (int m = 0; m < kMaxDof; ++m) coefficients[m] = out[e].coefficient(m);
     out[e] = Form::fromParts(out[e].centre(), coefficients, up(out[e].radius() + extra));
   }
@@ -311,11 +281,10 @@ GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::
   return Form::fromParts(a.centre(k, j), coefficients, a.radius(k, j));
 }
 
-bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const double* sy, const PoseColumn* pose,
-                              Row& out) const {
+bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const {
   DMat rowB0 = DMat::Zero(n_, 1);  // >= |Delta M w|_i = |delta r_i . w|
   Form dws[GeometryDerivatives::kCapacity];
-  columnDots(w, ssy, sy, pose, dws);
+  columnDots(w, ssy, sy, dws);
   // With the parameter terms (GeometryRowDerivative::parameterSlopes), dbar_e = (its pose form) + sum_s kappa_s
   // gamma'_s / 2: dbar_e . w = dws_e + sum_s gamma'_s (kappa_s . w) / 2, so b_p gets terms gamma'_s gamma_p
   // (second order in the geometry), bounded in magnitude: sum_e h_e |J0_{k,row(e)}| parameterDots(w)_e.

@@ -91,7 +91,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       IMat all(n, n);
       for (int j = 0; j < n; ++j)
         for (int l = 0; l < n; ++l) all(l, j) = Interval(c0(l, j));
-      decomposed = act.apply(all, jac, false, true) && increment.prepare(model, box, act, jac);
+      decomposed = act.apply(all, jac) && increment.prepare(model, box, act, jac);
     }
   }
   if (!decomposed && !act.prepare(model, box, model.hasGeometryUncertainty())) return false;
@@ -259,7 +259,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     }
     IMat batch(n, batchSize);
     for (int q = 0; q < batchSize; ++q) batch.col(q) = columns[batchFirst + q].v;
-    if (!act.apply(batch, nv, true, decomposed)) return false;
+    if (!act.apply(batch, nv, true)) return false;
     for (int segment = 0; segment < segments; ++segment) {
       const int k = segmentRow[segment], offset = segmentFirst[segment], m = segmentSize[segment];
       for (int q = offset; q < offset + m; ++q) {
@@ -293,9 +293,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
               ssy[l] = nv.ssy(l, q);
               sy[l] = nv.sy(l, q);
             }
-            GeometryIncrement::PoseColumn pose;
-            if (!increment.bound(k, w, ssy, sy, GeometryIncrement::poseColumn(nv, q, pose) ? &pose : nullptr, r))
-              return false;
+            if (!increment.bound(k, w, ssy, sy, r)) return false;
           }
           nominal = comb;
           double err = std::abs(comb.centre) + std::abs(r.linear.centre());

@@ -71,18 +71,6 @@ class AffineInverseAction {
     DMat ssy, cross;
     /// sy(k, j) >= |(S y_j)_k| (S = E0 + P the pose part of E; GeometryIncrement bounds d . (S S y) through it).
     DMat sy;
-    /// Only from apply(v, a, forBounds, true) (else poseTerms = false): the pose part of the radius in a form that
-    /// keeps dot products d . (...) structured (GeometryIncrement). With T_i the pose slopes (E(t, g0) - E0 =
-    /// sum_i T_i dt_i, |dt_i| <= dev_i) and dm_i their midpoints, the radius includes poseDr >= sum_i dev_i dr_i |v_m|
-    /// for sum_i dt_i (T_i - dm_i) v, and for every vector d
-    ///   |d . sum_i dt_i (T_i - dm_i) v_m| <= sum_p pairWeight[p] |d . hv[p]_j| + |d| . poseRest_j
-    /// (hv[p]: C H_il(box)'s midpoint on the entries with Taylor slopes times v_m, pair p = (i, l); poseRest: the
-    /// centre derivatives' radii, the other entries' dr, the Hessians' radii and the roundings);
-    /// hvMag = sum_p pairWeight[p] |hv[p]|.
-    bool poseTerms = false;
-    std::array<DMat, MatrixHessian::kPairs> hv;
-    double pairWeight[MatrixHessian::kPairs];
-    DMat hvMag, poseRest, poseDr;
     /// The pose x geometry terms kept as products tau_i gamma_p (bilinearCoefficients(), upperBilinear()); only from
     /// apply(v, a, true), for boxes whose variables are the pose coordinates and models with affine geometry
     /// derivatives (else false and empty): q1[i](e, j) = c_e . (D_i v_j) and sv[i](e, j) = s_{e,i} . v_j (midpoints:
@@ -143,7 +131,7 @@ class AffineInverseAction {
   /// forBounds: the columns bound f_k (not only the signs of J), so the refinements that pay only there are made too:
   /// the dot-product bound of |d_e . (S y)| and, where the box allows it, the bilinear terms (AffineMatrix::bilinear,
   /// for upperBilinear()).
-  bool apply(const IMat& v, AffineMatrix& out, bool forBounds = false, bool poseTerms = false) const;
+  bool apply(const IMat& v, AffineMatrix& out, bool forBounds = false) const;
 
   /// Monotonicity in the geometry (the seed paper's section 4.2, for the uncertain parameters). For
   /// phi = (N v)_k, v column j of `a`: d phi / d g_p = -sum over p's entries e of J_{k,row(e)} (d_e . y), y = N v
@@ -192,12 +180,6 @@ class AffineInverseAction {
   /// Pose slopes T_i at the centre geometry, midpoint and radius: entry by entry the range of C dJ^-1/dt_i over the
   /// box or the second-order Taylor slope (prepare()); either way E(t, g0) - E0 = sum_i T_i (t_i - t0_i).
   std::array<DMat, kMaxDof> dm_, dr_;
-  /// For AffineMatrix::poseTerms (workspace boxes with the centred Hessian form): C H_il(box) (midpoint, radius) on
-  /// the entries whose slopes are the Taylor ones (0 elsewhere), the centre derivatives' radii there (crT_) and the
-  /// slopes' radii elsewhere (drR_).
-  bool taylorTerms_ = false;
-  std::array<DMat, MatrixHessian::kPairs> hmT_, hrT_;
-  std::array<DMat, kMaxDof> crT_, drR_;
   double devMag_[kMaxDof];  ///< |t_i - t0_i| <=
   EntryMat gm_, gr_;        ///< row derivative d_e per geometry entry (over the pose box and geometry box)
   /// The same derivatives as affine forms in the pose, where the model gives them for every entry

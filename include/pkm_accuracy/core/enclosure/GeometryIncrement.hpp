@@ -54,17 +54,6 @@ class GeometryIncrement {
  public:
   using Form = interval::AffineForm<kMaxDof>;
 
-  /// Column j of an AffineMatrix's pose terms (AffineInverseAction::AffineMatrix::poseTerms): pointers to its n rows.
-  struct PoseColumn {
-    const double* hv[MatrixHessian::kPairs];
-    const double* weight;
-    const double* hvMag;
-    const double* rest;
-    const double* dr;
-  };
-  /// @return false (and nothing set) where `a` has no pose terms.
-  static bool poseColumn(const AffineInverseAction::AffineMatrix& a, int j, PoseColumn& out);
-
   /// The bound of e_k^T (J(t, g) - J(t, g0)) u over the box and every geometry, for one component k and weights u:
   ///   e_k^T Delta J u <= linear(tau) + constant,  |e_k^T Delta J u| <= magnitude,
   /// tau the pose symbols of the nominal AffineInverseAction's forms (tau_i = (t_i - t0_i) / |t_i - t0_i|max).
@@ -99,7 +88,7 @@ class GeometryIncrement {
   /// n rows; |u_j| <= e_j for the bounds of f_k), with ssy and sy that column's bounds of |S S y| (a part of w's
   /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare().
   /// @return false if a bound is not finite.
-  bool bound(int k, const Form* w, const double* ssy, const double* sy, const PoseColumn* pose, Row& out) const;
+  bool bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const;
 
   /// The cheap bound of the same increase for every weights |u_j| <= e_j: |e_k^T Delta J u| <= sum_j e_j DJ_kj (a
   /// constant; no first-order terms). For columns whose box is split whatever their increment (MeanValueEnclosure).
@@ -126,9 +115,8 @@ class GeometryIncrement {
   /// gamma').
   void parameterDots(const Form* w, double* out) const;
   /// The same for a column of the nominal expansion whose radius includes ssy >= |S S y| (componentwise): that part
-  /// enters as |dbar_e^T S| sy (the dot products keep their cancellations) where it is smaller than |dbar_e| ssy;
-  /// likewise the slopes' radii (pose: AffineMatrix::poseTerms, may be null) through the Hessians' dot products.
-  void columnDots(const Form* w, const double* ssy, const double* sy, const PoseColumn* pose, Form* out) const;
+  /// enters as |dbar_e^T S| sy (the dot products keep their cancellations) where it is smaller than |dbar_e| ssy.
+  void columnDots(const Form* w, const double* ssy, const double* sy, Form* out) const;
 
   int n_ = 0, params_ = 0, entries_ = 0;
   std::vector<double> e_;
