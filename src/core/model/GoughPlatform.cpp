@@ -394,10 +394,10 @@ void GoughPlatform::affineGeometryDerivativesWith(const IVec& q, GeometryDerivat
   // With N = 12, symbols 6 + k and 9 + k are the leg's base and platform anchor coordinates k (where uncertain):
   // each entry only combines quantities of its own leg, so the legs share the symbol numbers.
   constexpr bool kAnchorSymbols = N == 2 * kMaxDof;
-  int baseParam[6][3], platformParam[6][3];
+  int baseParam[6][3], platformParam[6][3];  // (-1 without the anchor symbols)
   for (int i = 0; i < 6; ++i)
     for (int k = 0; k < 3; ++k) baseParam[i][k] = platformParam[i][k] = -1;
-  for (int p = 0; p < static_cast<int>(params_.size()); ++p) {
+  for (int p = 0; p < static_cast<int>(params_.size()) && kAnchorSymbols; ++p) {
     if (params_[p].kind == Parameter::Base) baseParam[params_[p].leg][params_[p].coord] = p;
     if (params_[p].kind == Parameter::Platform) platformParam[params_[p].leg][params_[p].coord] = p;
   }
