@@ -301,9 +301,11 @@ class Run {
   }
 
   /// The bound the search's heuristics read for component k: ErrorBounds::searchUpper where the enclosure gives one
-  /// (a row whose geometry increase was bounded only coarsely, because the box is split anyway), else the bound.
+  /// (a row whose geometry increase was bounded only coarsely, because the box is split anyway), else the bound;
+  /// never above the bound (which the gradient refinement may lower after the enclosure).
   static double searchBound(const enclosure::ErrorBounds& bounds, int k) {
-    return bounds.searchUpper.size() == bounds.upper.size() ? bounds.searchUpper[k] : bounds.upper[k];
+    return bounds.searchUpper.size() == bounds.upper.size() ? std::min(bounds.searchUpper[k], bounds.upper[k])
+                                                            : bounds.upper[k];
   }
 
   /// Largest relative excess of a still-active component's bound over its target (progress measure).

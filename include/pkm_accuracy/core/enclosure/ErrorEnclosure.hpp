@@ -106,9 +106,10 @@ struct ErrorBounds {
   /// heuristics only: the verifier skips the certified centre evaluation of a box whose estimates are clearly below
   /// the thresholds.
   DVec centreEstimate;
-  /// Per component: NOT certified, the bound the search's predictions use (Verifier: hopeless halves) where it
-  /// differs from `upper`: for a component some of whose columns had their geometry increase bounded only coarsely
-  /// (the box is split whatever it is, MeanValueEnclosure), the bound without that increase. Empty: `upper`.
+  /// Per component: NOT certified, the bound the search's heuristics use (Verifier: hopeless halves, split weights,
+  /// progress) where it differs from `upper`: for a component some of whose columns had their geometry increase bounded
+  /// only coarsely (the box is split whatever it is, MeanValueEnclosure), the bound without that increase. Empty:
+  /// `upper`.
   DVec searchUpper;
   /// Every upper bound finite (of the components in `rows`, bit k: component k; see BoxInput::rows).
   bool bounded(unsigned rows = ~0u) const {
