@@ -33,9 +33,6 @@ inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
 /// Only the components in `rows` (a subset of box.rows) are bounded. The geometry directions certified for a row
 /// are added to out.faces (which the caller initialised).
 /// @return false if the affine form cannot be built (then the interval path runs instead).
-/// At most this many straddling parameters for upperAtVertices() (its cost is 2^vars times their number).
-constexpr int kMaxVertexTerms = kMaxGeometryParameters;
-
 /// Upper bound of a decomposed column from the nominal column at g0 and its increase split as in
 /// GeometryIncrement::Row: the maximum over the vertices of the pose symbols' box of the convex function
 ///   nominal(tau) + fixed(tau) + sum_s h_s |straddle_s(tau)|
@@ -318,8 +315,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         // The bilinear bound (pose x geometry terms kept as products) where this column's bound misses the target,
         // unless an earlier column of the row has missed it already (the row is undecided whatever this one gives).
         double columnUpper = comb.upper();
-        if (decomposed && !doomed && r.straddling > 0 && r.straddling <= kMaxVertexTerms &&
-            (!targeted || misses(k, columnUpper)))
+        if (decomposed && !doomed && r.straddling > 0 && (!targeted || misses(k, columnUpper)))
           columnUpper = std::min(columnUpper, upperAtVertices(nominal, r, vars));
         if (nv.bilinear && (!targeted || (!missed[k] && misses(k, columnUpper))))
           columnUpper = std::min(columnUpper, act.upperBilinear(nv, k, q));
