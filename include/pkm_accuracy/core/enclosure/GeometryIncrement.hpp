@@ -86,9 +86,13 @@ class GeometryIncrement {
   /// The increase of sum_j u_j J_kj(t, g) over its value at g0, e_k^T Delta J u, bounded over the box and every
   /// geometry, for weights u given by w = J0 u (the affine forms of the column N C u of the nominal expansion, all
   /// n rows; |u_j| <= e_j for the bounds of f_k), with ssy and sy that column's bounds of |S S y| (a part of w's
-  /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare().
+  /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare(). Where the bound with the
+  /// second-order sum as a constant exceeds `slack` (how much the column's nominal bound may grow before it misses its
+  /// target; +inf without targets), that sum is also bounded as a linear form in tau (the products of linear upper
+  /// bounds of |J0_ki|, A_ii'(tau) and B_i'(tau)), and the smaller maximum is kept (its linear part then joins
+  /// `linear` and `fixed`).
   /// @return false if a bound is not finite.
-  bool bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const;
+  bool bound(int k, const Form* w, const double* ssy, const double* sy, double slack, Row& out) const;
 
   /// The cheap bound of the same increase for every weights |u_j| <= e_j: |e_k^T Delta J u| <= sum_j e_j DJ_kj (a
   /// constant; no first-order terms). For columns whose box is split whatever their increment (MeanValueEnclosure).
@@ -133,7 +137,12 @@ class GeometryIncrement {
   /// d_e's parameter terms (kappa, coefficient of gamma'_s in component l; 0 where the model gives none) and half
   /// the sum of their magnitudes (dbar_e's deviation through them).
   double dK_[kMaxDof][kMaxDof][GeometryDerivatives::kCapacity], dDevK_[kMaxDof][GeometryDerivatives::kCapacity];
-  double a_[kMaxDof][kMaxDof];                             ///< A
+  double a_[kMaxDof][kMaxDof];                           ///< A
+  Form dc_[GeometryDerivatives::kCapacity][kMaxDof];     ///< dbar_e . J0_{.,j} (its pose form)
+  double kwc_[GeometryDerivatives::kCapacity][kMaxDof];  ///< the bound of its parameter terms
+  /// A and |J0| as linear upper bounds over the box (built on the first bound() that needs them).
+  mutable Form aF_[kMaxDof][kMaxDof], absJ0_[kMaxDof][kMaxDof];
+  mutable bool formsReady_ = false;
   double magDc_[GeometryDerivatives::kCapacity][kMaxDof];  ///< >= |dbar_e . J0_{.,j}|
   double dj_[kMaxDof][kMaxDof];                            ///< DJ >= |Delta J|
   DMat aMat_, aApprox_;                                    ///< A and ~(I - A)^-1 (for the fixed points)
