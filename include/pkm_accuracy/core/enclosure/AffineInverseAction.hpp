@@ -94,7 +94,7 @@ class AffineInverseAction {
   struct Combination {
     double centre = 0.0, radius = 0.0;
     double pose[kMaxDof];
-    double poseSpread[kMaxDof];  ///< included in radius; for bisection hints
+    double poseSpread[kMaxDof];  ///< for bisection hints (a share of radius; MeanValueEnclosure may weight it)
     double geometry[kMaxGeometryParameters];
     /// Upper / lower end of its range over the box (rounded outward).
     double upper() const;
