@@ -27,15 +27,16 @@
 // parameter terms (GeometryDerivatives::withParameterSlopes) dbar_e = (pose form) + sum_s kappa_s gamma'_s / 2 + its
 // remainder, and the products gamma_p gamma'_s are bounded apart (parameterDots) instead of widening dbar_e;
 // rowBound() is the coarse bound for rows that are split anyway, and Row::fixed / straddle let the caller take the
-// exact maximum of the first-order part over the pose vertices.
+// exact maximum of the first-order part over the pose vertices; where a column misses its target, bound() also bounds
+// the second-order sum as a function of tau (products of linear upper bounds of its non-negative factors).
 //
 // Why: the combined form (AffineInverseAction with the geometry) expands N = (C J^-1(t, g))^-1 around the pose AND
 // the geometry at once, so its remainder carries the products of pose and geometry deviations through the inverse
 // (|L S y|, |S L y|, |L L y|, ...), each bounded in magnitude; here the nominal part keeps the nominal remainder and
 // the geometry part is exact to first order in the geometry with a remainder of second order in h. With the
 // increment known exactly to first order (an unsound point estimate, bench/patches/point_increment_oracle.patch) the
-// search would need fewer boxes at +-1 mm than the nominal case; as built (session 20) it needs 64 831 boxes at
-// +-1 mm and 34 443 at +-0.5 mm against the combined form's 79 887 and 35 719 (bench/RESULTS.md): the radii of the
+// search would need fewer boxes at +-1 mm than the nominal case; as built (session 21) it needs 59 255 boxes at
+// +-1 mm and 33 303 at +-0.5 mm against the combined form's 79 887 and 35 719 (bench/RESULTS.md): the radii of the
 // forms of w and J0 (the nominal expansion's remainder) still enter the strongly cancelling dot products
 // dbar_p . w in magnitude, and so the second-order sum and the secants.
 //
