@@ -105,25 +105,40 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
     if (magS.rows() != n_ || magS.cols() != n_) return false;
     for (int l = 0; l < n_; ++l)
       for (int e = 0; e < entries_; ++e) dS_[l][e] = 0.0;
+    // (Entries innermost: contiguous, vectorisable loops.)
+    double absC[kMaxDof][GeometryDerivatives::kCapacity], dev[kMaxDof][GeometryDerivatives::kCapacity];
+    for (int m = 0; m < n_; ++m)
+      for (int e = 0; e < entries_; ++e) {
+        absC[m][e] = std::abs(dC_[m][e]);
+        dev[m][e] = dDev_[m][e] + dDevK_[m][e] + 1e-14 * absC[m][e];
+      }
     const auto addRow = [&](const DMat& xm, const DMat& xr, double scale) {
-      for (int l = 0; l < n_; ++l)
-        for (int e = 0; e < entries_; ++e) {
-          double dot = 0.0, mag = 0.0;
-          for (int m = 0; m < n_; ++m) {
-            dot += dC_[m][e] * xm(m, l);
-            mag += std::abs(dC_[m][e]) * (std::abs(xm(m, l)) * 1e-14 + xr(m, l));
+      for (int l = 0; l < n_; ++l) {
+        double dot[GeometryDerivatives::kCapacity], mag[GeometryDerivatives::kCapacity];
+        for (int e = 0; e < entries_; ++e) dot[e] = mag[e] = 0.0;
+        for (int m = 0; m < n_; ++m) {
+          const double x = xm(m, l), y = std::abs(x) * 1e-14 + xr(m, l);
+          const double* c = dC_[m];
+          const double* a = absC[m];
+          for (int e = 0; e < entries_; ++e) {
+            dot[e] += c[e] * x;
+            mag[e] += a[e] * y;
           }
-          dS_[l][e] += (std::abs(dot) + mag) * scale;
         }
+        for (int e = 0; e < entries_; ++e) dS_[l][e] += (std::abs(dot[e]) + mag[e]) * scale;
+      }
     };
     addRow(act.residualMid(), act.residualRad(), 1.0);
     for (int i = 0; i < n_; ++i) addRow(act.poseSlopeMid(i), act.poseSlopeRad(i), act.deviation(i));
-    for (int l = 0; l < n_; ++l)
-      for (int e = 0; e < entries_; ++e) {
-        double s = 0.0;
-        for (int m = 0; m < n_; ++m) s += (dDev_[m][e] + dDevK_[m][e] + 1e-14 * std::abs(dC_[m][e])) * magS(m, l);
-        dS_[l][e] = up(up(dS_[l][e]) + up(s));
+    for (int l = 0; l < n_; ++l) {
+      double s[GeometryDerivatives::kCapacity];
+      for (int e = 0; e < entries_; ++e) s[e] = 0.0;
+      for (int m = 0; m < n_; ++m) {
+        const double x = magS(m, l);
+        for (int e = 0; e < entries_; ++e) s[e] += dev[m][e] * x;
       }
+      for (int e = 0; e < entries_; ++e) dS_[l][e] = up(up(dS_[l][e]) + up(s[e]));
+    }
   }
   // A(i, j) >= |delta r_i . J0_{.,j}|.
   for (int j = 0; j < n_; ++j) {
