@@ -282,11 +282,13 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
             double wc[kMaxDof];
             for (int l = 0; l < n; ++l) wc[l] = nv.centre(l, q);
             atG0[k] = std::max(atG0[k], comb.upper() + increment.centreIncrease(k, wc));
-          } else if (targeted && (increment.rowBound(k, r), !misses(k, comb.upper() + r.constant))) {
-            // The coarse increase certifies this column already: no full bound (44% of them at +-1 mm, the same
-            // boxes).
-            easy = true;
-          } else {
+          } else if (targeted) {
+            // Where the coarse increase certifies this column already, no full bound (44% of them at +-1 mm, the
+            // same boxes).
+            increment.rowBound(k, r);
+            easy = !misses(k, comb.upper() + r.constant);
+          }
+          if (!doomed && !easy) {
             GeometryIncrement::Form w[kMaxDof];
             double ssy[kMaxDof], sy[kMaxDof];
             for (int l = 0; l < n; ++l) {
