@@ -268,6 +268,20 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         AffineInverseAction::Combination nominal;  // (decomposed: the column at g0)
         // (Decomposed: the box is split whatever this column's increase, which is then bounded coarsely.)
         bool doomed = false, easy = false;
+        // Bisection hints: an increase not in the nominal column's pose terms (its radius and constant, mostly second
+        // order in the pose box; for a coarse column the estimated increase at the centre) shared out over the pose
+        // variables like the nominal column's radius, twice over (such terms shrink faster than first-order ones when
+        // a variable is halved). Measured (paper, 5% margins): +-1 mm 61 643 -> 59 255 boxes (full bounds) -> 58 099
+        // (coarse columns too), +-0.5 mm 34 115 -> 33 303 -> 32 823; once over: 60 079 / 33 475 (full bounds); by the
+        // increase's own slopes: 61 023.
+        const auto shareIncrease = [&](double increase) {
+          constexpr double kIncreaseShare = 2.0;
+          double spread = 0.0;
+          for (int i = 0; i < vars; ++i) spread += comb.poseSpread[i];
+          if (!(spread > 0.0) || !(increase > 0.0)) return;
+          const double scale = kIncreaseShare * increase / spread;
+          for (int i = 0; i < vars; ++i) comb.poseSpread[i] += scale * comb.poseSpread[i];
+        };
         if (decomposed) {
           // f_k(t, g) <= sum_j w_j J_kj(t, g) + rest[k] (the signs and secants above hold over J's range over every
           // geometry) = (this column at g0) + e_k^T Delta J w: the increment's linear part joins the column's, its
@@ -281,7 +295,9 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
             coarse[k] = true;
             double wc[kMaxDof];
             for (int l = 0; l < n; ++l) wc[l] = nv.centre(l, q);
-            atG0[k] = std::max(atG0[k], comb.upper() + increment.centreIncrease(k, wc));
+            const double centreIncrease = increment.centreIncrease(k, wc);
+            atG0[k] = std::max(atG0[k], comb.upper() + centreIncrease);
+            shareIncrease(centreIncrease);
           } else if (targeted) {
             // Where the coarse increase certifies this column already, no full bound (44% of them at +-1 mm, the
             // same boxes).
@@ -308,19 +324,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
             comb.pose[i] += r.linear.coefficient(i);
           }
           comb.radius = up(comb.radius + r.linear.radius() + r.constant + 1e-15 * err);
-          if (!doomed && !easy) {
-            // Bisection hints: the increase's radius and constant (second order in the pose box, mostly) shared
-            // out like the nominal column's radius, twice over (they shrink faster than first-order terms when a
-            // variable is halved). Measured (paper, 5% margins): +-1 mm 61 643 -> 59 255 boxes, +-0.5 mm
-            // 34 115 -> 33 303 (once over: 60 079 / 33 475; by the increase's own slopes: 61 023).
-            constexpr double kIncreaseShare = 2.0;
-            double spread = 0.0;
-            for (int i = 0; i < vars; ++i) spread += comb.poseSpread[i];
-            if (spread > 0.0) {
-              const double scale = kIncreaseShare * (r.linear.radius() + r.constant) / spread;
-              for (int i = 0; i < vars; ++i) comb.poseSpread[i] += scale * comb.poseSpread[i];
-            }
-          }
+          if (!doomed && !easy) shareIncrease(r.linear.radius() + r.constant);
           lower[k] = std::max(lower[k], interval::rounding::subDown(lowerAtG0, r.magnitude));
           for (int p = 0; p < r.params; ++p) first += std::abs(r.coefficient[p]);
           if (doomed || easy) first += r.constant;  // (no coefficients: the coarse bound, above the first order)
