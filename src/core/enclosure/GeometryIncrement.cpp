@@ -398,26 +398,42 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
   }
   out.linear = Form::fromParts(lc[0], la[0], up(lr[0] + 1e-14 * lerr[0]));
   out.fixed = Form::fromParts(lc[1], la[1], up(lr[1] + 1e-14 * lerr[1]));
-  // Second order: sum_i |J0_ki| sum_i' A_ii' B_i'.
-  double second = 0.0;
+  // Second order: sum_i |J0_ki| sum_i' A_ii' B_i' = sum_i |J0_ki| (A B)_i.
+  double ab[kMaxDof], second = 0.0;
   for (int i = 0; i < n_; ++i) {
     double s = 0.0;
     for (int i2 = 0; i2 < n_; ++i2) s += a_[i][i2] * rowB(i2, 0);
-    second += magJ0_[k][i] * up(s);
+    ab[i] = up(s);
+    second += magJ0_[k][i] * ab[i];
   }
   second = up(second);
-  // (Only a choice of how much work: either bound is valid.)
-  if (out.linear.toInterval().upper() + up(up(constant) + up(second + up(cross))) <= slack) {
-    out.second = up(second + up(cross));
-    out.constant = up(up(constant) + out.second);
-    out.magnitude = up(up(magnitude) + out.second);
-    return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);
+  // Where the column misses its slack with that constant, the same sum as a function of tau; the smaller maximum is
+  // kept. (Only a choice of how much work: either bound is valid.)
+  double secondMax = second;
+  bool asForm = false;
+  if (out.linear.toInterval().upper() + up(up(constant) + up(second + up(cross))) > slack) {
+    const Form t2 = secondOrderForm(k, dws, kw, ab);
+    const double t2Upper = t2.toInterval().upper();
+    if (t2.finite() && t2Upper < second) {
+      out.linear += t2;
+      out.fixed += t2;
+      secondMax = t2Upper;
+      asForm = true;
+    }
   }
-  // Where that misses the slack: the same sum as a function of tau, bounded by products of linear upper bounds of
-  // its non-negative factors (absUpper): |J0_ki| <= absJ0_ki(tau), A_ii' <= aF_ii'(tau) (the same dot products
-  // as A) and |delta r_i' . y| <= |delta r_i' . w| + (A B)_i' <= bF_i'(tau) + (A B)_i' (y = w - J0 Delta M y, B the
-  // verified fixed point). The factors peak at different poses: at +-1 mm 4.9% fewer boxes (bench/RESULTS.md,
-  // session 21), the gain from the smaller maximum (its linear part cancels little against the column's own).
+  out.second = asForm ? up(cross) : up(second + up(cross));
+  out.constant = up(up(constant) + out.second);
+  out.magnitude = up(up(magnitude) + up(secondMax + up(cross)));
+  return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);
+}
+
+GeometryIncrement::Form GeometryIncrement::secondOrderForm(int k, const Form* dws, const double* kw,
+                                                           const double* ab) const {
+  // The factors of sum_i |J0_ki| sum_i' A_ii' B_i' as linear upper bounds in tau of non-negative quantities
+  // (absUpper), whose products then bound the products: |J0_ki| <= absJ0_ki(tau), A_ii' <= aF_ii'(tau) (the same
+  // dot products as A) and |delta r_i' . y| <= |delta r_i' . w| + (A B)_i' <= bF_i'(tau) + ab_i' (y = w - J0 Delta M
+  // y, B the verified fixed point). The factors peak at different poses: at +-1 mm 4.9% fewer boxes
+  // (bench/RESULTS.md, session 21), from the smaller maximum (its linear part cancels little against the column's).
   if (!formsReady_) {
     for (int i = 0; i < n_; ++i)
       for (int j = 0; j < n_; ++j) aF_[i][j] = Form(0.0);
@@ -430,30 +446,14 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
   }
   Form bF[kMaxDof];
   for (int e = 0; e < entries_; ++e) bF[row_[e]] += absUpper(dws[e]) * entryH_[e] + Form(up(entryH_[e] * kw[e]));
-  for (int i2 = 0; i2 < n_; ++i2) {
-    double s = 0.0;
-    for (int i3 = 0; i3 < n_; ++i3) s += a_[i2][i3] * rowB(i3, 0);
-    bF[i2] += Form(up(s));
-  }
+  for (int i = 0; i < n_; ++i) bF[i] += Form(ab[i]);
   Form t2(0.0);
   for (int i = 0; i < n_; ++i) {
     Form inner(0.0);
     for (int i2 = 0; i2 < n_; ++i2) inner += aF_[i][i2] * bF[i2];
     t2 += absJ0_[k][i] * inner;
   }
-  const double t2Upper = t2.toInterval().upper();
-  if (t2.finite() && t2Upper < second) {
-    out.linear += t2;
-    out.fixed += t2;
-    second = t2Upper;
-    out.second = up(cross);
-    out.constant = up(up(constant) + out.second);
-  } else {
-    out.second = up(second + up(cross));
-    out.constant = up(up(constant) + out.second);
-  }
-  out.magnitude = up(up(magnitude) + up(second + up(cross)));
-  return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);
+  return t2;
 }
 
 }  // namespace enclosure
