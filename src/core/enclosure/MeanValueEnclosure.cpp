@@ -235,6 +235,20 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   const auto misses = [&](int k, double bound) {
     return targeted && (Interval(bound) + rest[k]).upper() > box.targets[k];
   };
+  // Bisection hints: an increase not in the nominal column's pose terms (its radius and constant, mostly second
+  // order in the pose box; for a coarse column the estimated increase at the centre) shared out over the pose
+  // variables like the nominal column's radius, twice over (such terms shrink faster than first-order ones when
+  // a variable is halved). Measured (paper, 5% margins): +-1 mm 61 643 -> 59 255 boxes (full bounds) -> 58 099
+  // (coarse columns too), +-0.5 mm 34 115 -> 33 303 -> 32 823; once over: 60 079 / 33 475 (full bounds); by the
+  // increase's own slopes: 61 023.
+  const auto shareIncrease = [&](double increase) {
+    constexpr double kIncreaseShare = 2.0;
+    double spread = 0.0;
+    for (int i = 0; i < vars; ++i) spread += comb.poseSpread[i];
+    if (!(spread > 0.0) || !(increase > 0.0)) return;
+    const double scale = kIncreaseShare * increase / spread;
+    for (int i = 0; i < vars; ++i) comb.poseSpread[i] += scale * comb.poseSpread[i];
+  };
   // The rows' columns in segments of at most n (a row's columns are one segment unless it has more than n), and the
   // segments in batches of at most n columns, one apply per batch: apply() works column by column (the same bounds
   // as one apply per row), and its cost per call beyond the columns' is paid once per batch instead of once per
@@ -268,20 +282,6 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
         AffineInverseAction::Combination nominal;  // (decomposed: the column at g0)
         // (Decomposed: the box is split whatever this column's increase, which is then bounded coarsely.)
         bool doomed = false, easy = false;
-        // Bisection hints: an increase not in the nominal column's pose terms (its radius and constant, mostly second
-        // order in the pose box; for a coarse column the estimated increase at the centre) shared out over the pose
-        // variables like the nominal column's radius, twice over (such terms shrink faster than first-order ones when
-        // a variable is halved). Measured (paper, 5% margins): +-1 mm 61 643 -> 59 255 boxes (full bounds) -> 58 099
-        // (coarse columns too), +-0.5 mm 34 115 -> 33 303 -> 32 823; once over: 60 079 / 33 475 (full bounds); by the
-        // increase's own slopes: 61 023.
-        const auto shareIncrease = [&](double increase) {
-          constexpr double kIncreaseShare = 2.0;
-          double spread = 0.0;
-          for (int i = 0; i < vars; ++i) spread += comb.poseSpread[i];
-          if (!(spread > 0.0) || !(increase > 0.0)) return;
-          const double scale = kIncreaseShare * increase / spread;
-          for (int i = 0; i < vars; ++i) comb.poseSpread[i] += scale * comb.poseSpread[i];
-        };
         if (decomposed) {
           // f_k(t, g) <= sum_j w_j J_kj(t, g) + rest[k] (the signs and secants above hold over J's range over every
           // geometry) = (this column at g0) + e_k^T Delta J w: the increment's linear part joins the column's, its
