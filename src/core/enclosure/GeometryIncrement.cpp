@@ -140,7 +140,9 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
       for (int e = 0; e < entries_; ++e) dS_[l][e] = up(up(dS_[l][e]) + up(s[e]));
     }
   }
-  // A(i, j) >= |delta r_i . J0_{.,j}|.
+  // A(i, j) >= |delta r_i . J0_{.,j}| (per (i, j) the entries added in the same order as entry by entry).
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j) a_[i][j] = 0.0;
   for (int j = 0; j < n_; ++j) {
     Form column[kMaxDof], out[GeometryDerivatives::kCapacity];
     double ssy[kMaxDof], sy[kMaxDof], kw[GeometryDerivatives::kCapacity];
@@ -152,18 +154,12 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
     columnDots(column, ssy, sy, out);
     parameterDots(column, kw);
     for (int e = 0; e < entries_; ++e) {
-      magDc_[e][j] = up(mag(out[e]) + kw[e]);
+      a_[row_[e]][j] += entryH_[e] * up(mag(out[e]) + kw[e]);
       dc_[e][j] = out[e];
       kwc_[e][j] = kw[e];
     }
   }
   formsReady_ = false;
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j) a_[i][j] = 0.0;
-  for (int e = 0; e < entries_; ++e) {
-    const int i = row_[e];
-    for (int j = 0; j < n_; ++j) a_[i][j] += entryH_[e] * magDc_[e][j];
-  }
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) a_[i][j] = up(a_[i][j]);
   // Y = Delta M J (row i: delta r_i^T J, J = J(t, g)) satisfies Y = Delta M J0 + Delta M Delta J = Delta M J0 -

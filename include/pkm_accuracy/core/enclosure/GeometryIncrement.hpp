@@ -147,9 +147,8 @@ class GeometryIncrement {
   /// A and |J0| as linear upper bounds over the box (built on the first bound() that needs them).
   mutable Form aF_[kMaxDof][kMaxDof], absJ0_[kMaxDof][kMaxDof];
   mutable bool formsReady_ = false;
-  double magDc_[GeometryDerivatives::kCapacity][kMaxDof];  ///< >= |dbar_e . J0_{.,j}|
-  double dj_[kMaxDof][kMaxDof];                            ///< DJ >= |Delta J|
-  DMat aMat_, aApprox_;                                    ///< A and ~(I - A)^-1 (for the fixed points)
+  double dj_[kMaxDof][kMaxDof];  ///< DJ >= |Delta J|
+  DMat aMat_, aApprox_;          ///< A and ~(I - A)^-1 (for the fixed points)
   SignPattern signs_;
 };
 
