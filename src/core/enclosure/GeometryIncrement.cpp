@@ -86,6 +86,7 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
         dev += std::abs(a[m]);
       }
       dR_[l][e] = up(g.radius[l] + 1e-15 * sum);
+      dSlope_[l][e] = up(dev);
       dDev_[l][e] = up(dev + dR_[l][e]);
       // The parameter terms (where the model gives them): dbar_e's are half of d_e's (below), kept apart.
       double half = 0.0;
@@ -204,26 +205,34 @@ void GeometryIncrement::dots(const Form* w, Form* out) const {
     for (int e = 0; e < entries_; ++e) a[m][e] = 0.0;
   for (int l = 0; l < n_; ++l) {
     const double wc = w[l].centre(), awc = std::abs(wc), wr = w[l].radius();
-    double wa[kMaxDof], devw = wr;
+    double wa[kMaxDof], devw = wr, waMag = 0.0;
     for (int m = 0; m < kMaxDof; ++m) {
       wa[m] = w[l].coefficient(m);
       devw += std::abs(wa[m]);
+      waMag += std::abs(wa[m]);
     }
+    // (Entries innermost, each entry's sums in the same order as entry by entry: contiguous, vectorisable loops.)
     const double* dc = dC_[l];
+    double half[GeometryDerivatives::kCapacity], halfMag[GeometryDerivatives::kCapacity];
+    for (int e = 0; e < entries_; ++e) half[e] = halfMag[e] = 0.0;
+    for (int m = 0; m < kMaxDof; ++m) {
+      const double wam = wa[m];
+      const double* dm = dA_[l][m];
+      double* am = a[m];
+      for (int e = 0; e < entries_; ++e) {
+        am[e] += dc[e] * wam + wc * dm[e];
+        const double d = dm[e] * wam;
+        half[e] += d;
+        halfMag[e] += std::abs(d);
+      }
+    }
+    // (The magnitudes of the terms of the centre and coefficients, sum_m (|c_l| |wa_lm| + |wc_l| |a_lm|) + |c_l wc_l|,
+    // from the sums of the slopes' magnitudes: the same sum but for rounding far below the 1e-14 margin's slack.)
     for (int e = 0; e < entries_; ++e) {
       const double x = dc[e], ax = std::abs(x);
-      double half = 0.0, halfMag = 0.0, terms = std::abs(x * wc);
-      for (int m = 0; m < kMaxDof; ++m) {
-        const double dm = dA_[l][m][e];
-        a[m][e] += x * wa[m] + wc * dm;
-        const double d = dm * wa[m];
-        half += d;
-        halfMag += std::abs(d);
-        terms += ax * std::abs(wa[m]) + awc * std::abs(dm);
-      }
-      c[e] += x * wc + 0.5 * half;
-      r[e] += ax * wr + awc * dR_[l][e] + (dDev_[l][e] * devw - 0.5 * (1.0 - 1e-14) * halfMag);
-      err[e] += terms + halfMag;
+      c[e] += x * wc + 0.5 * half[e];
+      r[e] += ax * wr + awc * dR_[l][e] + (dDev_[l][e] * devw - 0.5 * (1.0 - 1e-14) * halfMag[e]);
+      err[e] += ax * (awc + waMag) + awc * dSlope_[l][e] + halfMag[e];
     }
   }
   for (int e = 0; e < entries_; ++e) {

@@ -137,7 +137,8 @@ class GeometryIncrement {
   /// radius and deviation (sum_m |coefficient| + radius, rounded up).
   double dC_[kMaxDof][GeometryDerivatives::kCapacity], dA_[kMaxDof][kMaxDof][GeometryDerivatives::kCapacity];
   double dR_[kMaxDof][GeometryDerivatives::kCapacity], dDev_[kMaxDof][GeometryDerivatives::kCapacity];
-  double dS_[kMaxDof][GeometryDerivatives::kCapacity];  ///< >= |dbar_e^T S|, component l, entry e
+  double dSlope_[kMaxDof][GeometryDerivatives::kCapacity];  ///< >= sum_m |coefficient of tau_m|
+  double dS_[kMaxDof][GeometryDerivatives::kCapacity];      ///< >= |dbar_e^T S|, component l, entry e
   /// d_e's parameter terms (kappa, coefficient of gamma'_s in component l; 0 where the model gives none) and half
   /// the sum of their magnitudes (dbar_e's deviation through them).
   double dK_[kMaxDof][kMaxDof][GeometryDerivatives::kCapacity], dDevK_[kMaxDof][GeometryDerivatives::kCapacity];
