@@ -103,16 +103,19 @@ class AffineForm {
     // centre, and |X Y - sum_m x_m y_m / 2| <= dev(x) dev(y) - sum_m |x_m y_m| / 2.
     AffineForm f;
     const double axc = std::abs(x.c_), ayc = std::abs(y.c_);
-    double half = 0.0, halfMag = 0.0, err = 0.0, sx = x.r_, sy = y.r_;
+    double half = 0.0, halfMag = 0.0, xa = 0.0, ya = 0.0;
     for (int m = 0; m < N; ++m) {
       f.a_[m] = x.c_ * y.a_[m] + y.c_ * x.a_[m];
       const double d = x.a_[m] * y.a_[m];
       half += d;
       halfMag += std::abs(d);
-      err += axc * std::abs(y.a_[m]) + ayc * std::abs(x.a_[m]);
-      sx += std::abs(x.a_[m]);
-      sy += std::abs(y.a_[m]);
+      xa += std::abs(x.a_[m]);
+      ya += std::abs(y.a_[m]);
     }
+    // (The coefficients' terms' magnitudes sum_m (|xc| |y_m| + |yc| |x_m|) from the sums of the |x_m| and |y_m|: the
+    // same sum but for rounding far below kErr's slack.)
+    double err = axc * ya + ayc * xa;
+    const double sx = x.r_ + xa, sy = y.r_ + ya;
     half *= 0.5;                     // exact but for underflow, which the floor in up() covers
     halfMag *= 0.5 * (1.0 - 1e-14);  // a lower bound of sum_m |x_m y_m| / 2 (it is subtracted below)
     f.c_ = x.c_ * y.c_ + half;
