@@ -426,8 +426,10 @@ void GoughPlatform::affineGeometryDerivativesWith(const IVec& q, GeometryDerivat
   const Aff r[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
                        {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
                        {-sp, cp * sr, cp * cr}};
+  const bool toolAtOrigin = c_[0] == 0.0 && c_[1] == 0.0 && c_[2] == 0.0;
   Aff tool[3];
-  for (int k = 0; k < 3; ++k) tool[k] = r[k][0] * Aff(c_[0]) + r[k][1] * Aff(c_[1]) + r[k][2] * Aff(c_[2]);
+  for (int k = 0; k < 3 && !toolAtOrigin; ++k)
+    tool[k] = r[k][0] * Aff(c_[0]) + r[k][1] * Aff(c_[1]) + r[k][2] * Aff(c_[2]);
   struct Leg {
     bool built = false;
     Aff d[3], u[3], n[3], m[3], inv;
@@ -445,13 +447,10 @@ void GoughPlatform::affineGeometryDerivativesWith(const IVec& q, GeometryDerivat
       b[k] = anchor(b_[i][k], bMid_[i][k], platformParam[i][k], kMaxDof + 3 + k, leg.scale[3 + k]);
     }
     for (int k = 0; k < 3; ++k) {
-      Aff rb(0.0), ru(0.0);
-      for (int l = 0; l < 3; ++l) {
-        rb += r[k][l] * b[l];
-        ru += r[k][l] * (b[l] - Aff(c_[l]));
-      }
+      Aff rb(0.0);
+      for (int l = 0; l < 3; ++l) rb += r[k][l] * b[l];
       leg.d[k] = pose[k] + rb - a[k];
-      leg.u[k] = ru;
+      leg.u[k] = toolAtOrigin ? rb : rb - tool[k];  // R (b - c) = R b - R c
       leg.arm[k] = pose[k] + tool[k] - a[k];
     }
     leg.inv = reciprocal(sqrt(leg.d[0] * leg.d[0] + leg.d[1] * leg.d[1] + leg.d[2] * leg.d[2]));
