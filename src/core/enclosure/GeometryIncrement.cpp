@@ -275,13 +275,21 @@ void GeometryIncrement::columnDots(const Form* w, const double* ssy, const doubl
     reduced[l] = Form::fromParts(w[l].centre(), coefficients, interval::rounding::subUp(w[l].radius(), ssy[l]));
   }
   dots(reduced, out);
-  for (int e = 0; e < entries_; ++e) {
-    double plain = 0.0, structured = 0.0;
-    for (int l = 0; l < n_; ++l) {
-      plain += (std::abs(dC_[l][e]) + dDev_[l][e] + dDevK_[l][e]) * ssy[l];
-      structured += dS_[l][e] * sy[l];
+  // (Entries innermost: contiguous, vectorisable loops; each entry's sums in the order l = 0, 1, ...)
+  double plain[GeometryDerivatives::kCapacity], structured[GeometryDerivatives::kCapacity];
+  for (int e = 0; e < entries_; ++e) plain[e] = structured[e] = 0.0;
+  for (int l = 0; l < n_; ++l) {
+    const double* c = dC_[l];
+    const double* dev = dDev_[l];
+    const double* devK = dDevK_[l];
+    const double* ds = dS_[l];
+    for (int e = 0; e < entries_; ++e) {
+      plain[e] += (std::abs(c[e]) + dev[e] + devK[e]) * ssy[l];
+      structured[e] += ds[e] * sy[l];
     }
-    const double extra = up(std::min(plain, structured));
+  }
+  for (int e = 0; e < entries_; ++e) {
+    const double extra = up(std::min(plain[e], structured[e]));
     for (int m = 0; m < kMaxDof; ++m) coefficients[m] = out[e].coefficient(m);
     out[e] = Form::fromParts(out[e].centre(), coefficients, up(out[e].radius() + extra));
   }
@@ -294,20 +302,23 @@ void GeometryIncrement::parameterDots(const Form* w, double* out) const {
     wc[l] = w[l].centre();
     wd[l] = w[l].deviation() + 1e-14 * std::abs(wc[l]);
   }
-  for (int e = 0; e < entries_; ++e) out[e] = 0.0;
+  // sum_s |kappa_s . w| <= sum_s |kappa_s . w_c| + sum_l (sum_s |kappa_ls|) wd_l, the inner sums 2 dDevK_ (>= them).
+  double mag[GeometryDerivatives::kCapacity];
+  for (int e = 0; e < entries_; ++e) out[e] = mag[e] = 0.0;
+  for (int l = 0; l < n_; ++l) {
+    const double* x = dDevK_[l];
+    for (int e = 0; e < entries_; ++e) mag[e] += x[e] * wd[l];
+  }
   for (int q = 0; q < kMaxDof; ++q) {
-    double dot[GeometryDerivatives::kCapacity], mag[GeometryDerivatives::kCapacity];
-    for (int e = 0; e < entries_; ++e) dot[e] = mag[e] = 0.0;
+    double dot[GeometryDerivatives::kCapacity];
+    for (int e = 0; e < entries_; ++e) dot[e] = 0.0;
     for (int l = 0; l < n_; ++l) {
       const double* x = dK_[l][q];
-      for (int e = 0; e < entries_; ++e) {
-        dot[e] += x[e] * wc[l];
-        mag[e] += std::abs(x[e]) * wd[l];
-      }
+      for (int e = 0; e < entries_; ++e) dot[e] += x[e] * wc[l];
     }
-    for (int e = 0; e < entries_; ++e) out[e] += std::abs(dot[e]) + mag[e];
+    for (int e = 0; e < entries_; ++e) out[e] += std::abs(dot[e]);
   }
-  for (int e = 0; e < entries_; ++e) out[e] = up(0.5 * out[e]);
+  for (int e = 0; e < entries_; ++e) out[e] = up(0.5 * up(out[e]) + up(mag[e]));
 }
 
 GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::AffineMatrix& a, int k, int j) {
@@ -412,11 +423,14 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
     second += magJ0_[k][i] * ab[i];
   }
   second = up(second);
-  // Where the column misses its slack with that constant, the same sum as a function of tau; the smaller maximum is
-  // kept. (Only a choice of how much work: either bound is valid.)
+  // Where the column misses its slack with that constant but not without it, the same sum as a function of tau; the
+  // smaller maximum is kept. (Only a choice of how much work: either bound is valid. Where the column misses even
+  // without the sum, the form, >= 0 at every pose, cannot get its linear bound under the slack: skipping it there,
+  // +-1 mm 58 099 -> 57 551 boxes, +-0.5 mm 32 823 -> 32 771, as the hints then see the sum as a constant.)
   double secondMax = second;
   bool asForm = false;
-  if (out.linear.toInterval().upper() + up(up(constant) + up(second + up(cross))) > slack) {
+  const double linearUpper = out.linear.toInterval().upper();
+  if (linearUpper + up(up(constant) + up(second + up(cross))) > slack && !(linearUpper + constant > slack)) {
     const Form t2 = secondOrderForm(k, dws, kw, ab);
     const double t2Upper = t2.toInterval().upper();
     if (t2.finite() && t2Upper < second) {

@@ -89,9 +89,9 @@ class GeometryIncrement {
   /// n rows; |u_j| <= e_j for the bounds of f_k), with ssy and sy that column's bounds of |S S y| (a part of w's
   /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare(). Where the bound with the
   /// second-order sum as a constant exceeds `slack` (how much the column's nominal bound may grow before it misses its
-  /// target; +inf without targets), that sum is also bounded as a linear form in tau (the products of linear upper
-  /// bounds of |J0_ki|, A_ii'(tau) and B_i'(tau)), and the smaller maximum is kept (its linear part then joins
-  /// `linear` and `fixed`).
+  /// target; +inf without targets) but the bound without it does not, that sum is also bounded as a linear form in
+  /// tau (the products of linear upper bounds of |J0_ki|, A_ii'(tau) and B_i'(tau)), and the smaller maximum is kept
+  /// (its linear part then joins `linear` and `fixed`).
   /// @return false if a bound is not finite.
   bool bound(int k, const Form* w, const double* ssy, const double* sy, double slack, Row& out) const;
 
