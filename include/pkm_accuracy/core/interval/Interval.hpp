@@ -242,8 +242,9 @@ inline Interval abs(const Interval& a) noexcept {
 /// A linear upper bound of |x| e over x in a (e >= 0 finite): |x| e <= weight x + offset for every x in a, exactly
 /// (not only up to rounding). `weight` (in [-e, e]) is the secant slope of |x| e over a, rounded to nearest; `offset`
 /// is the largest value of the convex |x| e - weight x over a, at one of its ends, rounded up. So for a of one sign
-/// weight = +-e and offset = 0 (up to the rounding), and for a = [-r, r] weight = 0 and offset = r e (the magnitude);
-/// in between, offset is below mag(a) e (up to the rounding). Unbounded or empty a: weight 0, offset mag(a) e.
+/// weight = +-e and offset = 0 (exactly: |x| e = +-e x there), and for a = [-r, r] weight = 0 and offset = r e (the
+/// magnitude); in between, offset is below mag(a) e (up to the rounding). Unbounded or empty a: weight 0, offset
+/// mag(a) e.
 struct AbsSecant {
   double weight;
   double offset;
@@ -251,6 +252,8 @@ struct AbsSecant {
 inline AbsSecant absSecant(const Interval& a, double e) noexcept {
   if (!a.isBounded()) return {0.0, a.isEmpty() ? a.lower() : rounding::mulUp(a.mag(), e)};
   const double lo = a.lower(), hi = a.upper();
+  if (lo >= 0.0) return {e, 0.0};
+  if (hi <= 0.0) return {-e, 0.0};
   const double slope = hi > lo ? std::max(-1.0, std::min(1.0, (hi + lo) / (hi - lo))) : (lo >= 0.0 ? 1.0 : -1.0);
   const double weight = slope * e;  // |weight| <= e: rounding is monotone
   const double atLo = (Interval(std::abs(lo)) * e - Interval(weight) * lo).upper();
