@@ -32,32 +32,34 @@ inline GeometryIncrement::Form absUpper(const GeometryIncrement::Form& x) {
 
 }  // namespace
 
-bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction& act,
-                                const AffineInverseAction::AffineMatrix& j0) {
+GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& box,
+                                                          const AffineInverseAction& act,
+                                                          const AffineInverseAction::AffineMatrix& j0) {
   n_ = model.dof();
   params_ = model.geometryParameterCount();
-  if (n_ != kMaxDof || !box.variablesArePose(n_) || params_ <= 0 || params_ > kMaxGeometryParameters) return false;
-  if (j0.rows != n_ || j0.cols != n_ || j0.vars != n_) return false;
+  if (n_ != kMaxDof || !box.variablesArePose(n_) || params_ <= 0 || params_ > kMaxGeometryParameters)
+    return Preparation::Unsupported;
+  if (j0.rows != n_ || j0.cols != n_ || j0.vars != n_) return Preparation::Unsupported;
   // The box variables are the pose coordinates, centred at the box midpoint: then the nominal forms' symbols
   // tau_i = (t_i - t0_i) / dev_i and the model's tau'_i = (t_i - mid_i) / a_i (a_i >= the half-width, the scale
   // AffineForm::variable gives) are related by tau'_i = kappa_i tau_i, kappa_i = dev_i / a_i.
   double kappa[kMaxDof];
   for (int i = 0; i < n_; ++i) {
     const Interval& c = box.centrePose[i];
-    if (!(c.lower() == c.upper() && c.lower() == box.pose[i].mid())) return false;
+    if (!(c.lower() == c.upper() && c.lower() == box.pose[i].mid())) return Preparation::Unsupported;
     const double a = Form::variable(box.pose[i], i).coefficient(i);
     const double dev = box.deviation[i].mag();
-    if (!(a > 0.0) && dev > 0.0) return false;
+    if (!(a > 0.0) && dev > 0.0) return Preparation::Unsupported;
     kappa[i] = a > 0.0 ? dev / a : 0.0;
   }
   static thread_local GeometryDerivatives geo;
   geo.count = 0;
   geo.withParameterSlopes = true;
   if (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0 || geo.count > GeometryDerivatives::kCapacity)
-    return false;
+    return Preparation::Unsupported;
   entries_ = geo.count;
   for (int e = 0; e < entries_; ++e)
-    if (!geo.entries[e].affine) return false;
+    if (!geo.entries[e].affine) return Preparation::Unsupported;
   e_ = model.sensorError();
   for (int p = 0; p < params_; ++p)
     h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
@@ -103,7 +105,7 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
   // double are off by less than 1e-14 |c_e|^T |X| (sums of 6 products).
   {
     const DMat& magS = act.poseMagnitude();
-    if (magS.rows() != n_ || magS.cols() != n_) return false;
+    if (magS.rows() != n_ || magS.cols() != n_) return Preparation::Unsupported;
     for (int l = 0; l < n_; ++l)
       for (int e = 0; e < entries_; ++e) dS_[l][e] = 0.0;
     // (Entries innermost: contiguous, vectorisable loops.)
@@ -173,7 +175,7 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
   aApprox_ = (DMat::Identity(n_, n_) - aMat_).inverse();
   if (!aApprox_.allFinite()) aApprox_ = DMat::Identity(n_, n_);
   DMat ybar;
-  if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return false;
+  if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return Preparation::Unverified;
   for (int k = 0; k < n_; ++k)
     for (int j = 0; j < n_; ++j) {
       double s = 0.0;
@@ -188,7 +190,7 @@ bool GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& 
       if (range.lower() > dj_[k][j]) signs_.positive |= std::uint64_t(1) << bit;
       if (range.upper() < -dj_[k][j]) signs_.negative |= std::uint64_t(1) << bit;
     }
-  return true;
+  return Preparation::Ready;
 }
 
 void GeometryIncrement::dots(const Form* w, Form* out) const {

@@ -79,7 +79,10 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   const int n = model.dof();
   const int vars = box.variables;
   // The decomposed geometry form: the nominal expansion (no geometry terms) plus GeometryIncrement's bound of the
-  // increase over the geometry; the combined form where it cannot be built.
+  // increase over the geometry; the combined form where it cannot be built. Where it is built but does not verify
+  // (the nominal expansion's fixed point, or the increase's), neither does the combined form, whose E contains the
+  // nominal one and the geometry's terms: the caller's interval path then. (Measured, paper +-1 mm / +-0.5 mm: 3 405
+  // / 2 327 such boxes, the same boxes and bounds without the combined form's attempt.)
   bool decomposed = model.hasGeometryUncertainty() && box.decomposeGeometry && vars == n;
   if (decomposed) {
     decomposed = act.prepare(model, box, false);
@@ -88,7 +91,10 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       IMat all(n, n);
       for (int j = 0; j < n; ++j)
         for (int l = 0; l < n; ++l) all(l, j) = Interval(c0(l, j));
-      decomposed = act.apply(all, jac) && increment.prepare(model, box, act, jac);
+      if (!act.apply(all, jac)) return false;
+      const GeometryIncrement::Preparation built = increment.prepare(model, box, act, jac);
+      if (built == GeometryIncrement::Preparation::Unverified) return false;
+      decomposed = built == GeometryIncrement::Preparation::Ready;
     }
   }
   if (!decomposed && !act.prepare(model, box, model.hasGeometryUncertainty())) return false;

@@ -76,13 +76,19 @@ class GeometryIncrement {
     int params = 0;
   };
 
+  /// What prepare() achieved.
+  enum class Preparation {
+    Ready,        ///< the rows can be bounded
+    Unsupported,  ///< the box variables are not the pose coordinates with the centre at the box midpoint, or the
+                  ///< model gives no affine geometry derivatives for every entry (e.g. tool-point uncertainty)
+    Unverified,   ///< the fixed point for |Delta J| does not verify: the geometry's effect is too large on this box
+  };
+
   /// Builds the parts shared by the rows for a box: j0 are the affine forms of J0 = N C over the box (all n columns
-  /// of C, from AffineInverseAction::apply after prepare(model, box, false)).
-  /// @return false if it cannot be built (then the caller uses the combined form): the box variables are not the
-  /// pose coordinates with the centre at the box midpoint, the model gives no affine geometry derivatives for every
-  /// entry, or the fixed point for |Delta J| does not verify.
-  bool prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction& act,
-               const AffineInverseAction::AffineMatrix& j0);
+  /// of C, from AffineInverseAction::apply after prepare(model, box, false)). Where it is not Ready the caller uses
+  /// another form.
+  Preparation prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction& act,
+                      const AffineInverseAction::AffineMatrix& j0);
 
   /// The increase of sum_j u_j J_kj(t, g) over its value at g0, e_k^T Delta J u, bounded over the box and every
   /// geometry, for weights u given by w = J0 u (the affine forms of the column N C u of the nominal expansion, all
