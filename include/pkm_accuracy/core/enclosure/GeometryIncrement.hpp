@@ -35,8 +35,8 @@
 // (|L S y|, |S L y|, |L L y|, ...), each bounded in magnitude; here the nominal part keeps the nominal remainder and
 // the geometry part is exact to first order in the geometry with a remainder of second order in h. With the
 // increment known exactly to first order (an unsound point estimate, bench/patches/point_increment_oracle.patch) the
-// search would need fewer boxes at +-1 mm than the nominal case; as built (session 21) it needs 58 099 boxes at
-// +-1 mm and 32 823 at +-0.5 mm against the combined form's 79 887 and 35 719 (bench/RESULTS.md): the radii of the
+// search would need fewer boxes at +-1 mm than the nominal case; as built (session 22) it needs 57 551 boxes at
+// +-1 mm and 32 771 at +-0.5 mm against the combined form's 79 887 and 35 719 (bench/RESULTS.md): the radii of the
 // forms of w and J0 (the nominal expansion's remainder) still enter the strongly cancelling dot products
 // dbar_p . w in magnitude, and so the second-order sum and the secants.
 //

@@ -90,8 +90,8 @@ struct VerifierOptions {
   /// geometry separately (enclosure::GeometryIncrement, "decomposed") instead of one expansion around the pose and
   /// the geometry together ("combined", the default). Both are rigorous; the decomposed form gives no monotone
   /// geometry directions (so no faces), needs the model's affine geometry derivatives (anchors, not the tool point:
-  /// else the combined form runs). Paper workspace, 5% margins: fewer boxes (+-1 mm 58 099 against 79 887, +-0.5 mm
-  /// 32 823 against 35 719) and faster at +-1 mm (bench/RESULTS.md, "Session 21"); the default stays combined because
+  /// else the combined form runs). Paper workspace, 5% margins: fewer boxes (+-1 mm 57 551 against 79 887, +-0.5 mm
+  /// 32 771 against 35 719) and faster (bench/RESULTS.md, "Session 22"); the default stays combined because
   /// margins below the first-order floor at single poses need the faces (as the default, a stalled path switched to
   /// the combined form for its faces still left a +0.5% case UNDECIDED after 200 001 boxes: docs/uncertainty.md).
   bool decompose_geometry = false;
