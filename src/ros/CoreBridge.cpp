@@ -98,6 +98,7 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
     o.geometry_splitting = verify::GeometrySplitting::Auto;
   }
   o.stall_levels = q.stall_levels;
+  o.decompose_geometry = q.geometry_form == "decomposed";
   o.cancel = hooks.cancel;
   o.progress = hooks.progress;
   o.progress_period_s = hooks.progress_period_s;

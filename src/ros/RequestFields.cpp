@@ -61,6 +61,15 @@ bool geometrySplitting(const std::string& requested, std::string& out, std::stri
   return false;
 }
 
+bool geometryForm(const std::string& requested, std::string& out, std::string& error) {
+  if (requested.empty() || requested == "combined" || requested == "decomposed") {
+    out = requested.empty() ? "combined" : requested;
+    return true;
+  }
+  error = "geometry_form: expected \"combined\", \"decomposed\" or \"\" (combined), got \"" + requested + "\"";
+  return false;
+}
+
 bool stallLevels(std::int32_t requested, int& out, std::string& error) {
   if (requested >= 0 && requested <= kMaxStallLevels) {
     out = static_cast<int>(requested);

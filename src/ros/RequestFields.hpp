@@ -28,6 +28,9 @@ bool method(const std::string& requested, const std::string& dflt, std::string& 
 
 /// `geometry_splitting`: "" (= "auto"), "auto", "never" or "always"; `out` gets the name ("" becomes "auto").
 bool geometrySplitting(const std::string& requested, std::string& out, std::string& error);
+
+/// `geometry_form`: "" (= "combined"), "combined" or "decomposed"; `out` gets the name ("" becomes "combined").
+bool geometryForm(const std::string& requested, std::string& out, std::string& error);
 /// `stall_levels`: 0 (the number of box variables) to kMaxStallLevels.
 bool stallLevels(std::int32_t requested, int& out, std::string& error);
 constexpr std::int32_t kMaxStallLevels = 1000;
@@ -67,7 +70,8 @@ inline bool mode(const std::string& requested, QueryMode& out, std::string& erro
 }
 
 /// The options the workspace and trajectory requests (and goals) share, after `mode`: thresholds, alpha,
-/// time_budget, threads, method, geometry_splitting, stall_levels (min_width differs in unit: the caller reads it).
+/// time_budget, threads, method, geometry_splitting, stall_levels, geometry_form (min_width differs in unit: the
+/// caller reads it).
 /// @return false with `error` naming the field.
 template <class Request>
 bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQuery& q, std::string& error) {
@@ -81,7 +85,8 @@ bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQ
   q.threads = req.threads;
   if (!method(req.method, defaults.method, q.method, error)) return false;
   return geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) &&
-         stallLevels(req.stall_levels, q.stall_levels, error);
+         stallLevels(req.stall_levels, q.stall_levels, error) &&
+         geometryForm(req.geometry_form, q.geometry_form, error);
 }
 
 /// The fields that the workspace and trajectory responses, action results and the ~verdict message share, from a

@@ -137,6 +137,7 @@ VerifyTrajectory::Request toRequest(const VerifyTrajectoryGoal& g) {
   r.frame_id = g.frame_id;
   r.geometry_splitting = g.geometry_splitting;
   r.stall_levels = g.stall_levels;
+  r.geometry_form = g.geometry_form;
   return r;
 }
 

@@ -198,6 +198,7 @@ VerifyWorkspace::Request toRequest(const VerifyWorkspaceGoal& g) {
   r.frame_id = g.frame_id;
   r.geometry_splitting = g.geometry_splitting;
   r.stall_levels = g.stall_levels;
+  r.geometry_form = g.geometry_form;
   return r;
 }
 
@@ -251,6 +252,7 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.threads_requested = q.threads;
   msg.geometry_splitting = q.geometry_splitting;
   msg.stall_levels = q.stall_levels;
+  msg.geometry_form = q.geometry_form;
 
   fields::fillCommonResponse(o, msg);
   for (std::size_t k = 0; k < 6; ++k) {

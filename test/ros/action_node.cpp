@@ -114,6 +114,7 @@ TEST(Action, GoalAndResultAreTheServicesRequestAndResponse) {
   r.frame_id = "somewhere";
   r.geometry_splitting = "always";
   r.stall_levels = 14;
+  r.geometry_form = "decomposed";
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
   const pkm_accuracy::ros_layer::WorkspaceOutcome o = filledOutcome();

@@ -101,6 +101,7 @@ TEST(TrajectoryAction, GoalAndResultAreTheServicesRequestAndResponse) {
   r.frame_id = "somewhere";
   r.geometry_splitting = "never";
   r.stall_levels = 14;
+  r.geometry_form = "decomposed";
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
   const pkm_accuracy::ros_layer::WorkspaceOutcome o = filledOutcome();

@@ -236,6 +236,11 @@ TEST(VerifyTrajectory, MalformedFieldsAreRefusedByNameAndTheNodeKeepsServing) {
   }
   {
     auto r = shortTrajectory(kGenerous);
+    r.geometry_form = "both";
+    expectRefused(r, "geometry_form");
+  }
+  {
+    auto r = shortTrajectory(kGenerous);
     r.stall_levels = -2;
     expectRefused(r, "stall_levels");
   }

@@ -4,7 +4,8 @@
 // geometry) but UNDECIDED, reason "uncertainty_sensitive", and the response names the pose, its region and the
 // failing / passing geometries (in the order of ~describe's geometry_parameters). The geometries are checked
 // independently: the robot rebuilt from config/ref6.yaml with them, evaluated in double (worstErrorAt). The
-// geometry_splitting / stall_levels options reach the verifier (geometry_switches / geometry_splits). In max_error mode
+// geometry_splitting / stall_levels options reach the verifier (geometry_switches / geometry_splits), and so does
+// geometry_form. In max_error mode
 // every lower bound comes with the geometry attaining it (lower_bound_geometries).
 #include <mutex>
 #include <string>
@@ -226,6 +227,31 @@ TEST(Uncertainty, GeometrySplittingOptionsReachTheVerifier) {
   r = verify(req);
   EXPECT_TRUE(r.success) << r.message;
   EXPECT_EQ(r.verdict, "SAFE") << r.message;
+}
+
+TEST(Uncertainty, GeometryFormReachesTheVerifier) {
+  // geometry_form: both forms certify the small box with dx at its sampled worst-geometry maximum (1.1028e-4) with
+  // different searches (so the option reaches the verifier: the box counts differ, deterministic on one thread;
+  // measured with pkm_verify --geometry-form: 73 and 169 boxes); a bad value is refused naming the field.
+  const std::array<double, 6> thresholds = {1.1028e-4, 1.2e-4, 1e-3, 1e-2, 1e-2, 1e-2};
+  auto req = smallRequest(thresholds);
+  req.threads = 1;
+  const auto combined = verify(req);  // "" = combined
+  ASSERT_TRUE(combined.success) << combined.message;
+  EXPECT_EQ(combined.verdict, "SAFE") << combined.message;
+  req.geometry_form = "combined";
+  const auto explicitCombined = verify(req);
+  ASSERT_TRUE(explicitCombined.success) << explicitCombined.message;
+  EXPECT_EQ(explicitCombined.boxes, combined.boxes);
+  req.geometry_form = "decomposed";
+  const auto decomposed = verify(req);
+  ASSERT_TRUE(decomposed.success) << decomposed.message;
+  EXPECT_EQ(decomposed.verdict, "SAFE") << decomposed.message;
+  EXPECT_NE(decomposed.boxes, combined.boxes) << combined.boxes;
+  req.geometry_form = "Decomposed";
+  const auto refused = verify(req);
+  EXPECT_FALSE(refused.success);
+  EXPECT_NE(refused.message.find("geometry_form"), std::string::npos) << refused.message;
 }
 
 TEST(Uncertainty, MaxErrorReportsTheGeometryOfEveryLowerBound) {

@@ -257,6 +257,7 @@ TEST(VerifyWorkspace, VerdictIsLatched) {
   EXPECT_EQ(v.message, r.message);
   EXPECT_EQ(v.geometry_splitting, "auto");  // "" in the request
   EXPECT_EQ(v.stall_levels, 0);
+  EXPECT_EQ(v.geometry_form, "combined");  // "" in the request
   EXPECT_EQ(v.sensitive_poses, 0u);
   EXPECT_EQ(v.sensitive_component, -1);
 }
@@ -389,6 +390,8 @@ TEST(VerifyWorkspace, EveryMalformedFieldIsRefusedNamingItAndTheNodeKeepsServing
       {"geometry_splitting", [](VerifyWorkspace::Request& r) { r.geometry_splitting = "Auto"; }},
       {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = -1; }},
       {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = 1001; }},
+      {"geometry_form", [](VerifyWorkspace::Request& r) { r.geometry_form = "split"; }},
+      {"geometry_form", [](VerifyWorkspace::Request& r) { r.geometry_form = "Combined"; }},
   };
   for (const auto& c : cases) {
     VerifyWorkspace::Request req = smallRequest(kGenerous);
