@@ -63,10 +63,10 @@ bool geometrySplitting(const std::string& requested, std::string& out, std::stri
 
 bool geometryForm(const std::string& requested, std::string& out, std::string& error) {
   if (requested.empty() || requested == "combined" || requested == "decomposed") {
-    out = requested.empty() ? "combined" : requested;
+    out = requested.empty() ? "decomposed" : requested;
     return true;
   }
-  error = "geometry_form: expected \"combined\", \"decomposed\" or \"\" (combined), got \"" + requested + "\"";
+  error = "geometry_form: expected \"decomposed\", \"combined\" or \"\" (decomposed), got \"" + requested + "\"";
   return false;
 }
 

@@ -29,7 +29,7 @@ bool method(const std::string& requested, const std::string& dflt, std::string& 
 /// `geometry_splitting`: "" (= "auto"), "auto", "never" or "always"; `out` gets the name ("" becomes "auto").
 bool geometrySplitting(const std::string& requested, std::string& out, std::string& error);
 
-/// `geometry_form`: "" (= "combined"), "combined" or "decomposed"; `out` gets the name ("" becomes "combined").
+/// `geometry_form`: "" (= "decomposed"), "decomposed" or "combined"; `out` gets the name ("" becomes "decomposed").
 bool geometryForm(const std::string& requested, std::string& out, std::string& error);
 /// `stall_levels`: 0 (the number of box variables) to kMaxStallLevels.
 bool stallLevels(std::int32_t requested, int& out, std::string& error);

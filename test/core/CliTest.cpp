@@ -795,7 +795,7 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   EXPECT_EQ(j["geometry_splitting"].str(), "never");
   EXPECT_FALSE(j["faces"].boolean);
   EXPECT_FALSE(j["skip_hopeless"].boolean);
-  EXPECT_EQ(j["geometry_form"].str(), "combined");
+  EXPECT_EQ(j["geometry_form"].str(), "decomposed");
   EXPECT_EQ(j["stats"]["unenclosed_boxes"].num(), 0.0);
   EXPECT_EQ(j["stats"]["face_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["face_boxes"].num(), 0.0);

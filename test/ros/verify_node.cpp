@@ -257,7 +257,7 @@ TEST(VerifyWorkspace, VerdictIsLatched) {
   EXPECT_EQ(v.message, r.message);
   EXPECT_EQ(v.geometry_splitting, "auto");  // "" in the request
   EXPECT_EQ(v.stall_levels, 0);
-  EXPECT_EQ(v.geometry_form, "combined");  // "" in the request
+  EXPECT_EQ(v.geometry_form, "decomposed");  // "" in the request
   EXPECT_EQ(v.sensitive_poses, 0u);
   EXPECT_EQ(v.sensitive_component, -1);
 }

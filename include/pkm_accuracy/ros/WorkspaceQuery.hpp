@@ -70,7 +70,7 @@ struct WorkspaceQuery {
   std::string geometry_splitting = "auto";
   int stall_levels = 0;
   /// How the anchor uncertainty is bounded: "combined" or "decomposed" (verify::VerifierOptions::decompose_geometry).
-  std::string geometry_form = "combined";
+  std::string geometry_form = "decomposed";
   /// Frame of the workspace and of every pose of the outcome; "" = the robot's base frame. For another frame the
   /// node fills the transform below from tf2 (has_transform) before the core runs.
   std::string frame_id;

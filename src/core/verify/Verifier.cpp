@@ -154,7 +154,10 @@ class Run {
     in.knownSigns = track.signs;
     in.faces = track.faces;
     in.useFaces = track.useFaces;
-    in.decomposeGeometry = options_.decompose_geometry;
+    // (The decomposed form on the paths that have not stalled; the combined one certifies the monotone directions the
+    // faces need, and its geometry hints are what strategy (b) reads.)
+    in.decomposeGeometry = options_.decompose_geometry && !track.useFaces && !track.geometry &&
+                           options_.geometry_splitting != GeometrySplitting::Always;
     in.rows = active;  // components decided on a containing box need no bound here
     in.targets.resize(n_);
     for (int k = 0; k < n_; ++k) in.targets[k] = target(k);
@@ -219,7 +222,11 @@ class Run {
     int geometrySplit = -1;
     if (params_ > 0 && (options_.faces || options_.geometry_splitting != GeometrySplitting::Never) && !byWidth) {
       const double excess = relativeExcess(bounds, active);
-      if (excess <= 0.9 * track.ref) {
+      // Progress: the excess at least halved (VerifierOptions::stall_levels). Measured (bench/RESULTS.md, Session
+      // 23): with 10% the decomposed form's paths kept "progressing" towards its floor at single poses (a +0.5%
+      // case UNDECIDED after 200 001 boxes), and the combined form's reached the faces later (2 439 boxes there
+      // against 255 with a halving); the paper workspace at 5% margins never stalls either way.
+      if (excess <= kProgress * track.ref) {
         next.ref = excess;
         next.since = 0;
       } else {
@@ -969,6 +976,7 @@ class Run {
   const int params_;                     ///< uncertain geometry parameters of the model
   std::vector<Interval> geometryRange_;  ///< their initial ranges
   int stallLevels_ = 2;
+  static constexpr double kProgress = 0.5;            ///< the excess must drop below this share of its reference
   static constexpr int kMaxGeometrySplits = 12;       ///< geometry bisections per search path at most
   static constexpr double kGeometryMinFraction = 64;  ///< geometry ranges are not split below 1/64 of the initial
   std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0}, faceSwitches_{0}, faceBoxes_{0};

@@ -72,8 +72,10 @@ struct VerifierOptions {
   bool monotonicity = false;
   /// Geometric uncertainty: see GeometrySplitting.
   GeometrySplitting geometry_splitting = GeometrySplitting::Auto;
-  /// Auto: a box "keeps splitting without progress" after this many bisection levels without reducing its bound's
-  /// excess over the target by 10% (0: the number of box variables, at least 2).
+  /// Auto: a box "keeps splitting without progress" after this many bisection levels without halving its bound's
+  /// excess over the target (0: the number of box variables, at least 2). (Until session 23 a 10% reduction counted
+  /// as progress: the decomposed geometry form's bound keeps creeping down by that much per few levels towards its
+  /// floor at single poses, so its paths reached the faces too late and too small, bench/RESULTS.md "Session 23".)
   int stall_levels = 0;
   /// Geometric uncertainty: a stalled search path (or a box at the precision limit) first bounds each component on
   /// the face of the geometry box where it is certified monotone (enclosure::BoxInput::useFaces), before any
@@ -87,14 +89,15 @@ struct VerifierOptions {
   /// 2-parameter varieties). False encloses every box.
   bool skip_hopeless = true;
   /// Geometric uncertainty, second_order method, workspace boxes: bound the nominal error and its increase over the
-  /// geometry separately (enclosure::GeometryIncrement, "decomposed") instead of one expansion around the pose and
-  /// the geometry together ("combined", the default). Both are rigorous; the decomposed form gives no monotone
-  /// geometry directions (so no faces), needs the model's affine geometry derivatives (anchors, not the tool point:
-  /// else the combined form runs). Paper workspace, 5% margins: fewer boxes (+-1 mm 57 551 against 79 887, +-0.5 mm
-  /// 32 771 against 35 719) and faster (bench/RESULTS.md, "Session 22"); the default stays combined because
-  /// margins below the first-order floor at single poses need the faces (as the default, a stalled path switched to
-  /// the combined form for its faces still left a +0.5% case UNDECIDED after 200 001 boxes: docs/uncertainty.md).
-  bool decompose_geometry = false;
+  /// geometry separately (enclosure::GeometryIncrement, the "decomposed" form, the default) on the search paths that
+  /// have not stalled, and use one expansion around the pose and the geometry together (the "combined" form) once a
+  /// path works on its faces or bisects the geometry (and everywhere with GeometrySplitting::Always); false: the
+  /// combined form everywhere. Both are rigorous. The decomposed form gives no monotone geometry directions (the
+  /// combined one certifies them where the faces need them) and needs the model's affine geometry derivatives
+  /// (anchors, not the tool point: else the combined form runs). Paper workspace, 5% margins: fewer boxes (+-1 mm
+  /// 57 551 against 79 887, +-0.5 mm 32 771 against 35 719) and faster (bench/RESULTS.md, "Session 22" and "Session
+  /// 23"); margins below the first-order floor at single poses still get the faces.
+  bool decompose_geometry = true;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
 };
