@@ -37,8 +37,12 @@ inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
 /// GeometryIncrement::Row: the maximum over the vertices of the pose symbols' box of the convex function
 ///   nominal(tau) + fixed(tau) + sum_s h_s |straddle_s(tau)|
 /// (exact, where the secants of |straddle_s| lose their offsets at the box's inner points), plus every radius and
-/// the second-order constant. Computed in double: every vertex value is a sum of at most 7 (1 + kMaxDof + the
-/// straddling terms) products and sums of the terms counted in `scale`, so its rounding error is below 1e-13 scale.
+/// the second-order constant. Computed in double, the vertices in Gray-code order: from one vertex to the next one
+/// symbol changes sign, so the linear part and each straddle_s(tau) are updated by +-2 x its coefficient (exact
+/// doubling, one rounded addition). Each running value stays within (its centre + the sum of its coefficients'
+/// magnitudes) of the terms counted in `scale`, so after at most 63 updates its rounding error is below
+/// 63 * 2^-53 of those terms; with the per-vertex sum of at most 1 + kMaxGeometryParameters weighted terms the whole
+/// error stays below 1e-13 scale.
 double upperAtVertices(const AffineInverseAction::Combination& nominal, const GeometryIncrement::Row& r, int vars) {
   double scale = std::abs(nominal.centre) + std::abs(r.fixed.centre());
   double slope[kMaxDof];
@@ -47,21 +51,33 @@ double upperAtVertices(const AffineInverseAction::Combination& nominal, const Ge
     scale += std::abs(nominal.pose[i]) + std::abs(r.fixed.coefficient(i));
   }
   double radii = nominal.radius + r.fixed.radius() + r.second;
-  for (int s = 0; s < r.straddling; ++s) {
-    scale += r.straddleH[s] * r.straddle[s].deviation() + r.straddleH[s] * std::abs(r.straddle[s].centre());
-    radii += r.straddleH[s] * r.straddle[s].radius();
+  const int straddling = r.straddling;
+  double x[kMaxGeometryParameters], h[kMaxGeometryParameters];
+  for (int s = 0; s < straddling; ++s) {
+    const GeometryIncrement::Form& b = r.straddle[s];
+    scale += r.straddleH[s] * b.deviation() + r.straddleH[s] * std::abs(b.centre());
+    radii += r.straddleH[s] * b.radius();
+    h[s] = r.straddleH[s];
+    x[s] = b.centre();
+    for (int i = 0; i < vars; ++i) x[s] -= b.coefficient(i);  // the vertex with every tau_i = -1
   }
-  double best = -std::numeric_limits<double>::infinity();
-  for (int v = 0; v < (1 << vars); ++v) {
-    double value = nominal.centre + r.fixed.centre();
-    for (int i = 0; i < vars; ++i) value += (v >> i) & 1 ? slope[i] : -slope[i];
-    for (int s = 0; s < r.straddling; ++s) {
-      const GeometryIncrement::Form& b = r.straddle[s];
-      double x = b.centre();
-      for (int i = 0; i < vars; ++i) x += (v >> i) & 1 ? b.coefficient(i) : -b.coefficient(i);
-      value += r.straddleH[s] * std::abs(x);
+  double linear = nominal.centre + r.fixed.centre();
+  for (int i = 0; i < vars; ++i) linear -= slope[i];
+  const auto value = [&]() {
+    double v = linear;
+    for (int s = 0; s < straddling; ++s) v += h[s] * std::abs(x[s]);
+    return v;
+  };
+  double best = value();
+  for (int g = 1; g < (1 << vars); ++g) {
+    const int i = __builtin_ctz(static_cast<unsigned>(g));  // the symbol that changes sign
+    const bool rising = ((g ^ (g >> 1)) >> i) & 1;          // -1 -> +1
+    linear += rising ? 2.0 * slope[i] : -2.0 * slope[i];
+    for (int s = 0; s < straddling; ++s) {
+      const double a = 2.0 * r.straddle[s].coefficient(i);
+      x[s] += rising ? a : -a;
     }
-    best = std::max(best, value);
+    best = std::max(best, value());
   }
   const double result = best + up(up(radii) + 1e-13 * scale);
   return std::isfinite(result) ? interval::rounding::nextUp(result) : std::numeric_limits<double>::infinity();
