@@ -75,8 +75,8 @@ bool stallLevels(std::int32_t requested, int& out, std::string& error) {
     out = static_cast<int>(requested);
     return true;
   }
-  error = "stall_levels: expected 0 (the number of box variables) to " + std::to_string(kMaxStallLevels) + ", got " +
-          std::to_string(requested);
+  error = "stall_levels: expected 0 (half the number of box variables, at least 2) to " +
+          std::to_string(kMaxStallLevels) + ", got " + std::to_string(requested);
   return false;
 }
 

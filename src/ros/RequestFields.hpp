@@ -31,7 +31,7 @@ bool geometrySplitting(const std::string& requested, std::string& out, std::stri
 
 /// `geometry_form`: "" (= "decomposed"), "decomposed" or "combined"; `out` gets the name ("" becomes "decomposed").
 bool geometryForm(const std::string& requested, std::string& out, std::string& error);
-/// `stall_levels`: 0 (the number of box variables) to kMaxStallLevels.
+/// `stall_levels`: 0 (half the number of box variables, at least 2) to kMaxStallLevels.
 bool stallLevels(std::int32_t requested, int& out, std::string& error);
 constexpr std::int32_t kMaxStallLevels = 1000;
 

@@ -2351,8 +2351,9 @@ TEST(UncertaintyVerifier, FacesCertifyMarginsBelowTheFirstOrderRemainder) {
   // second-order geometry remainder); stalled paths switch to the faces, whose bounds reach the worst vertex: SAFE.
   // 0.5% below the sampled maximum it must not be SAFE (the sampled maximum is attained at an admissible geometry).
   // Both geometry forms (the decomposed default switches stalled paths to the combined form for the faces). Measured
-  // (session 23): 255 boxes each; with the stall test's old 10% progress the decomposed default's paths reached the
-  // faces only at the precision limit (UNDECIDED after 200 001 boxes) and the combined form needed 2 439.
+  // (session 23): 31 boxes each (255 with 6 stall levels instead of the default 3); with the stall test's old 10%
+  // progress the decomposed default's paths reached the faces only at the precision limit (UNDECIDED after 200 001
+  // boxes) and the combined form needed 2 439.
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = pitchCorner(0.0001, 0.00015);

@@ -7,6 +7,7 @@
 // geometry_splitting / stall_levels options reach the verifier (geometry_switches / geometry_splits), and so does
 // geometry_form. In max_error mode
 // every lower bound comes with the geometry attaining it (lower_bound_geometries).
+#include <iostream>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -231,12 +232,14 @@ TEST(Uncertainty, GeometrySplittingOptionsReachTheVerifier) {
 
 TEST(Uncertainty, GeometryFormReachesTheVerifier) {
   // geometry_form: both forms certify the small box with dx at its sampled worst-geometry maximum (1.1028e-4) with
-  // different searches (so the option reaches the verifier: the box counts differ, deterministic on one thread;
-  // measured with pkm_verify --geometry-form: 109 boxes decomposed, the default, and 73 combined); a bad value is
-  // refused naming the field.
+  // different searches (so the option reaches the verifier: the box counts differ, deterministic on one thread);
+  // stall_levels 20 keeps every path on the requested form (with the default 3 the paths stall early and switch to the
+  // combined form for their faces either way: 65 boxes each; measured with 20: 169 decomposed, 73 combined); a bad
+  // value is refused naming the field.
   const std::array<double, 6> thresholds = {1.1028e-4, 1.2e-4, 1e-3, 1e-2, 1e-2, 1e-2};
   auto req = smallRequest(thresholds);
   req.threads = 1;
+  req.stall_levels = 20;
   const auto byDefault = verify(req);  // "" = decomposed
   ASSERT_TRUE(byDefault.success) << byDefault.message;
   EXPECT_EQ(byDefault.verdict, "SAFE") << byDefault.message;
@@ -249,6 +252,8 @@ TEST(Uncertainty, GeometryFormReachesTheVerifier) {
   ASSERT_TRUE(combined.success) << combined.message;
   EXPECT_EQ(combined.verdict, "SAFE") << combined.message;
   EXPECT_NE(combined.boxes, decomposed.boxes) << decomposed.boxes;
+  std::cout << "[ info     ] geometry_form: decomposed " << decomposed.boxes << " boxes, combined " << combined.boxes
+            << "\n";
   req.geometry_form = "Decomposed";
   const auto refused = verify(req);
   EXPECT_FALSE(refused.success);

@@ -10,7 +10,7 @@
 //   mode ("verify" | "max-error"), robot, workspace, workspace_region, workspace_box ([[lo, hi] x variables]),
 //   variables (names), components (["dx", "dy", "dz", "rx", "ry", "rz"]), units (["m", "m", "m", "rad", ...]),
 //   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty, max_boxes, time_limit,
-//   min_width, geometry_splitting ("auto" | "never" | "always"), stall_levels (0 = number of box variables), faces
+//   min_width, geometry_splitting ("auto" | "never" | "always"), stall_levels (0 = half the box variables, >= 2), faces
 //   (bool), skip_hopeless (bool), geometry_form ("combined" | "decomposed"), geometry_parameters (names of the
 //   uncertain geometry parameters, e.g. "platform_anchors[3].z", in the order of the model's parameters; null without
 //   geometric uncertainty), witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the

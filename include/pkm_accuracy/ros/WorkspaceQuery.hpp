@@ -66,7 +66,7 @@ struct WorkspaceQuery {
   unsigned threads = 0;      ///< 0 = all hardware threads
   std::string method;        ///< enclosure method name; "": the verifier's default
   /// Geometric uncertainty (robots with anchor uncertainty): "auto", "never" or "always" (verify::GeometrySplitting)
-  /// and the stall levels of "auto" (0 = the number of box variables).
+  /// and the stall levels of "auto" (0 = half the number of box variables, at least 2).
   std::string geometry_splitting = "auto";
   int stall_levels = 0;
   /// How the anchor uncertainty is bounded: "combined" or "decomposed" (verify::VerifierOptions::decompose_geometry).

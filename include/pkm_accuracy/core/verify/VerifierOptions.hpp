@@ -73,9 +73,10 @@ struct VerifierOptions {
   /// Geometric uncertainty: see GeometrySplitting.
   GeometrySplitting geometry_splitting = GeometrySplitting::Auto;
   /// Auto: a box "keeps splitting without progress" after this many bisection levels without halving its bound's
-  /// excess over the target (0: the number of box variables, at least 2). (Until session 23 a 10% reduction counted
-  /// as progress: the decomposed geometry form's bound keeps creeping down by that much per few levels towards its
-  /// floor at single poses, so its paths reached the faces too late and too small, bench/RESULTS.md "Session 23".)
+  /// excess over the target (0: half the number of box variables, at least 2; the number of them until session 23).
+  /// (Until session 23 a 10% reduction counted as progress: the decomposed geometry form's bound keeps creeping down by
+  /// that much per few levels towards its floor at single poses, so its paths reached the faces too late and too small,
+  /// bench/RESULTS.md "Session 23".)
   int stall_levels = 0;
   /// Geometric uncertainty: a stalled search path (or a box at the precision limit) first bounds each component on
   /// the face of the geometry box where it is certified monotone (enclosure::BoxInput::useFaces), before any
