@@ -229,7 +229,7 @@ class Run {
       // Progress: the excess at least halved (VerifierOptions::stall_levels). Measured (bench/RESULTS.md, Session
       // 23): with 10% the decomposed form's paths kept "progressing" towards its floor at single poses (a +0.5%
       // case UNDECIDED after 200 001 boxes), and the combined form's reached the faces later (2 439 boxes there
-      // against 255 with a halving); the paper workspace at 5% margins never stalls either way.
+      // against 255 with a halving, both at 6 stall levels); the paper workspace at 5% margins never stalls either way.
       if (excess <= kProgress * track.ref) {
         next.ref = excess;
         next.since = 0;
