@@ -52,12 +52,11 @@ double upperAtVertices(const AffineInverseAction::Combination& nominal, const Ge
   }
   double radii = nominal.radius + r.fixed.radius() + r.second;
   const int straddling = r.straddling;
-  double x[kMaxGeometryParameters], h[kMaxGeometryParameters];
+  double x[kMaxGeometryParameters];
   for (int s = 0; s < straddling; ++s) {
     const GeometryIncrement::Form& b = r.straddle[s];
     scale += r.straddleH[s] * b.deviation() + r.straddleH[s] * std::abs(b.centre());
     radii += r.straddleH[s] * b.radius();
-    h[s] = r.straddleH[s];
     x[s] = b.centre();
     for (int i = 0; i < vars; ++i) x[s] -= b.coefficient(i);  // the vertex with every tau_i = -1
   }
@@ -65,7 +64,7 @@ double upperAtVertices(const AffineInverseAction::Combination& nominal, const Ge
   for (int i = 0; i < vars; ++i) linear -= slope[i];
   const auto value = [&]() {
     double v = linear;
-    for (int s = 0; s < straddling; ++s) v += h[s] * std::abs(x[s]);
+    for (int s = 0; s < straddling; ++s) v += r.straddleH[s] * std::abs(x[s]);
     return v;
   };
   double best = value();
