@@ -287,3 +287,72 @@ TEST(GoughPlatform, HessianEnclosuresContainSecondDerivatives) {
   }
   EXPECT_EQ(checked, 60 * 8 * 6 * 6 * 36);
 }
+
+TEST(GoughPlatform, PreconditionedHessianMagnitudeBoundsEveryPointAndBeatsTheIntervalHessian) {
+  // The affine-form bound of |C d^2 J^-1 / dt_i dt_l| over a pose box against the analytic Hessian at points of the
+  // box (HessianEnclosuresContainSecondDerivatives checks that one against finite differences), C the inverse of J^-1
+  // at the box centre as in the expansions; on boxes of 1/8 of the ranges it must also be far below the interval
+  // Hessian's |C Hm| + |C| Hr, which loses the cancellations between legs (bench/RESULTS.md, Session 24).
+  io::RobotFile rf = test::ref6File();
+  rf.geometry.tool_point = Eigen::Vector3d(0.01, -0.02, 0.03);
+  const model::GoughPlatform robot(rf.geometry);
+  std::mt19937_64 rng(11);
+  const IVec ws = rf.workspaces.at("paper").initialBox();
+  double affineSum = 0.0, intervalSum = 0.0;
+  int checked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const DVec c = test::randomPoint(ws, rng);
+    const double frac = trial % 8 == 7 ? 0.0 : std::pow(0.5, 1 + trial % 4);  // 1/2 .. 1/16 of the ranges, points
+    IVec box(6), centre(6);
+    for (int i = 0; i < 6; ++i) {
+      const double h = frac * 0.5 * (ws[i].upper() - ws[i].lower());
+      box[i] = Interval(c[i] - h, c[i] + h);
+      centre[i] = Interval(box[i].mid());
+    }
+    const IMat mc = robot.inverseJacobianAtGeometryCentre(centre);
+    DMat mid(6, 6);
+    for (int r = 0; r < 6; ++r)
+      for (int col = 0; col < 6; ++col) mid(r, col) = mc(r, col).mid();
+    const DMat cInv = mid.inverse();
+    std::array<DMat, MatrixHessian::kPairs> bound;
+    ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, bound)) << trial;
+    MatrixHessian overBox;
+    ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(box, overBox));
+    for (int s = 0; s < 6; ++s) {
+      const DVec q = s == 0 ? DVec(c) : test::randomPoint(box, rng);
+      IVec point(6);
+      for (int i = 0; i < 6; ++i) point[i] = Interval(q[i]);
+      MatrixHessian at;
+      ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(point, at));
+      for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+        DMat hm(6, 6), hr(6, 6);
+        for (int r = 0; r < 6; ++r)
+          for (int col = 0; col < 6; ++col) {
+            hm(r, col) = at.d[p](r, col).mid();
+            hr(r, col) = at.d[p](r, col).rad();
+          }
+        const DMat value = (cInv * hm).cwiseAbs() - cInv.cwiseAbs() * hr;  // <= |C H(q)|
+        for (int r = 0; r < 6; ++r)
+          for (int col = 0; col < 6; ++col) {
+            EXPECT_LE(value(r, col), bound[p](r, col) * (1.0 + 1e-9) + 1e-12) << trial << " " << p << " " << r << col;
+            ++checked;
+          }
+      }
+    }
+    if (trial % 8 == 2) {  // boxes of 1/8 of the ranges
+      for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+        DMat hm(6, 6), hr(6, 6);
+        for (int r = 0; r < 6; ++r)
+          for (int col = 0; col < 6; ++col) {
+            hm(r, col) = overBox.d[p](r, col).mid();
+            hr(r, col) = overBox.d[p](r, col).rad();
+          }
+        intervalSum += ((cInv * hm).cwiseAbs() + cInv.cwiseAbs() * hr).sum();
+        affineSum += bound[p].sum();
+      }
+    }
+  }
+  EXPECT_EQ(checked, 40 * 6 * MatrixHessian::kPairs * 36);
+  std::printf("sum of the bounds on 1/8 boxes: affine %.4g, interval %.4g\n", affineSum, intervalSum);
+  EXPECT_LT(affineSum, 0.5 * intervalSum);
+}

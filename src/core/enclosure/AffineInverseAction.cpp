@@ -221,29 +221,41 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // cancellations between legs (C ~ J) that the direct enclosure C [dJ^-1/dt_i(box)] loses, where every leg's
   // variation over the box adds up in magnitude: on boxes of 1/8 of every range at the paper workspace's corners the
   // bounds of f_k drop from 22-104% to 5-26% above the sampled maxima (ErrorEnclosureTest), and the search keeps 8x
-  // fewer boxes. Both enclosures are valid: their intersection is kept. Only where the box variables are the pose
-  // coordinates themselves (workspace boxes; the Hessian is with respect to the pose) and the model provides it.
-  // (The model's Hessian call also gives the first derivatives over the box, and a second call those at the centre,
-  // both in place of the dual-number evaluation of the direct path.)
+  // fewer boxes. With the interval Hessian both enclosures are valid and their intersection is kept; with the model's
+  // affine bound of |C H_il| (below) the centred range alone, which was then always the narrower. Only where the box
+  // variables are the pose coordinates themselves (workspace boxes; the Hessian is with respect to the pose) and the
+  // model provides it. (A model call gives the first derivatives at the centre, in place of the dual-number evaluation
+  // of the direct path; the interval Hessian's call also those over the box.)
   static thread_local MatrixHessian hessian, atCentre;
   static thread_local MatrixWithGradient poseD;
-  static thread_local std::array<DMat, MatrixHessian::kPairs> hm, hr;  // C H_il(box), midpoint and radius
-  bool centred = vars_ == n_ && box.variablesArePose(n_) &&
-                 model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian) &&
-                 model.inverseJacobianHessianAtGeometryCentre(box.centrePose, atCentre, false);
-  for (int i = 0; i < vars_ && centred; ++i) centred = hessian.first[i].rows() == n_ && atCentre.first[i].rows() == n_;
-  for (int p = 0; p < MatrixHessian::kPairs && centred; ++p) centred = hessian.d[p].rows() == n_;
+  static thread_local std::array<DMat, MatrixHessian::kPairs> magCH;  // >= |C H_il| over the box
+  const bool poseBox = vars_ == n_ && box.variablesArePose(n_);
+  bool atCentreOk = poseBox && model.inverseJacobianHessianAtGeometryCentre(box.centrePose, atCentre, false);
+  for (int i = 0; i < vars_ && atCentreOk; ++i) atCentreOk = atCentre.first[i].rows() == n_;
+  // |C H_il| over the box: preferably the model's bound through affine forms of H in the pose (C keeps its
+  // cancellations against the Hessian's variation over the box, which |C| rad(H) of the interval Hessian loses: on the
+  // paper workspace's deciding boxes the sampled variation of C H is 1/14 of that; bench/RESULTS.md, Session 24);
+  // else the interval Hessian over the box, |C Hm| + |C| Hr, which also gives the first derivatives' ranges.
+  const bool affineHessian = atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH);
+  bool boxHessian = false;
+  if (atCentreOk && !affineHessian) {
+    boxHessian = model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian);
+    for (int i = 0; i < vars_ && boxHessian; ++i) boxHessian = hessian.first[i].rows() == n_;
+    for (int p = 0; p < MatrixHessian::kPairs && boxHessian; ++p) boxHessian = hessian.d[p].rows() == n_;
+  }
+  const bool centred = affineHessian || boxHessian;
   if (vars_ > 0 && !centred) model.inverseJacobianAtGeometryCentre(box.dualPose, poseD);
   const DMat zero = DMat::Zero(n_, n_);  // (C is exact: zero radius)
-  if (centred) {
-    DMat m, r;
+  if (boxHessian) {
+    DMat m, r, hm, hr;
     for (int p = 0; p < MatrixHessian::kPairs; ++p) {
       split(hessian.d[p], m, r);
-      product(c_, zero, m, r, hm[p], hr[p]);
+      product(c_, zero, m, r, hm, hr);
+      magCH[p] = upAll(DMat(hm.cwiseAbs() + hr));
     }
   }
   for (int i = 0; i < vars_; ++i) {
-    split(multiplyMidRad(c_, centred ? hessian.first[i] : poseD.d[i]), dm_[i], dr_[i]);
+    if (!affineHessian) split(multiplyMidRad(c_, boxHessian ? hessian.first[i] : poseD.d[i]), dm_[i], dr_[i]);
     devMag_[i] = box.deviation[i].mag();
   }
   std::array<DMat, kMaxDof> tm, tr;  // Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (below)
@@ -254,13 +266,18 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       product(c_, zero, m, r, cm, cr);
       DMat half = cr;  // the Taylor slope's radius (below)
       for (int l = 0; l < n_; ++l) {
-        const int p = MatrixHessian::index(i, l);
-        const DMat t = upAll(DMat((hm[p].cwiseAbs() + hr[p]) * devMag_[l]));
+        const DMat t = upAll(DMat(magCH[MatrixHessian::index(i, l)] * devMag_[l]));
         cr = upAll(DMat(cr + t));
         half = upAll(DMat(half + 0.5 * t));
       }
       tm[i] = cm;
       tr[i] = half;
+      if (affineHessian) {
+        // (No interval range of D_i over the box: the centred one.)
+        dm_[i] = cm;
+        dr_[i] = cr;
+        continue;
+      }
       // Intersection of [dm -+ dr] and [cm -+ cr] (both contain every D_i(t), t in the box).
       for (int k = 0; k < n_; ++k) {
         for (int l = 0; l < n_; ++l) {

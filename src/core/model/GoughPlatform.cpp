@@ -104,22 +104,12 @@ struct Rotation {
   }
 };
 
-/// Midpoint-radius rotation pieces over a pose box: R, R_pitch, and the first and second derivatives of R v.
-struct RotationMR {
-  using S = interval::MidRad;
+/// The rotation pieces in a scalar type S (interval::MidRad over a pose box, or interval::AffineForm in the pose
+/// symbols): R, R_pitch, and the first and second derivatives of R v.
+template <typename S>
+struct RotationOps {
   S r[3][3], dp[3][3], sr, cr, sy, cy;
   S zero{0.0}, one{1.0};
-  explicit RotationMR(const Rotation& rot) {
-    for (int k = 0; k < 3; ++k)
-      for (int l = 0; l < 3; ++l) {
-        r[k][l] = S(rot.r[k][l]);
-        dp[k][l] = S(rot.pitch[k][l]);
-      }
-    sr = S(rot.sr);
-    cr = S(rot.cr);
-    sy = S(rot.sy);
-    cy = S(rot.cy);
-  }
   static void mul(const S m[3][3], const S v[3], S o[3]) {
     for (int k = 0; k < 3; ++k) o[k] = m[k][0] * v[0] + m[k][1] * v[1] + m[k][2] * v[2];
   }
@@ -184,6 +174,89 @@ struct RotationMR {
   }
 };
 
+/// Midpoint-radius rotation pieces over a pose box.
+struct RotationMR : RotationOps<interval::MidRad> {
+  using S = interval::MidRad;
+  explicit RotationMR(const Rotation& rot) {
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) {
+        r[k][l] = S(rot.r[k][l]);
+        dp[k][l] = S(rot.pitch[k][l]);
+      }
+    sr = S(rot.sr);
+    cr = S(rot.cr);
+    sy = S(rot.sy);
+    cy = S(rot.cy);
+  }
+};
+
+/// The first derivatives of row i of J^-1 with respect to the six pose coordinates, from d, u, n, m, 1 / L and the
+/// platform anchor b (bv) and b - c (bc): d_a, u_a, L_a = n . d_a, n_a = (d_a - n L_a) / L, m_a = (u_a x d + u x d_a -
+/// m L_a) / L.
+template <typename S>
+struct LegFirst {
+  S da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
+  LegFirst(const RotationOps<S>& rm, const S d[3], const S u[3], const S n[3], const S m[3], const S& inv,
+           const S bv[3], const S bc[3]) {
+    for (int va = 0; va < 6; ++va) {
+      S wa[3];
+      if (va < 3) {
+        for (int k = 0; k < 3; ++k) {
+          da[va][k] = k == va ? rm.one : rm.zero;
+          ua[va][k] = rm.zero;
+        }
+        la[va] = n[va];
+        rm.crossUnit(u, va, wa);  // w_a = u x e_a
+      } else {
+        rm.first(va, bv, da[va]);
+        rm.first(va, bc, ua[va]);
+        la[va] = n[0] * da[va][0] + n[1] * da[va][1] + n[2] * da[va][2];
+        S t1[3], t2[3];
+        RotationOps<S>::cross(ua[va], d, t1);
+        RotationOps<S>::cross(u, da[va], t2);
+        for (int k = 0; k < 3; ++k) wa[k] = t1[k] + t2[k];
+      }
+      for (int k = 0; k < 3; ++k) {
+        na[va][k] = (da[va][k] - n[k] * la[va]) * inv;
+        ma[va][k] = (wa[k] - m[k] * la[va]) * inv;
+      }
+    }
+  }
+};
+
+/// The second derivatives (hn, hm) = d^2 (n, m) / dt_a dt_b (va <= vb) of row i of J^-1 (GoughPlatform::hessian).
+template <typename S>
+void legSecond(const RotationOps<S>& rm, const S d[3], const S u[3], const S n[3], const S m[3], const S& inv,
+               const S bv[3], const S bc[3], const LegFirst<S>& f, int va, int vb, S hn[3], S hm[3]) {
+  // (va <= vb) Translations have d_a = e_a, u_a = 0: d_ab = u_ab = 0 unless both are rotations, and the products
+  // with e_a are component selections.
+  const bool rotations = va >= 3;
+  S dab[3] = {rm.zero, rm.zero, rm.zero}, uab[3] = {rm.zero, rm.zero, rm.zero}, wab[3] = {rm.zero, rm.zero, rm.zero};
+  S lab;
+  if (rotations) {
+    rm.second(va, vb, bv, dab);
+    rm.second(va, vb, bc, uab);
+    lab = f.na[vb][0] * f.da[va][0] + f.na[vb][1] * f.da[va][1] + f.na[vb][2] * f.da[va][2] +
+          (n[0] * dab[0] + n[1] * dab[1] + n[2] * dab[2]);
+    S t[3];
+    auto add = [&](const S x[3], const S y[3]) {
+      RotationOps<S>::cross(x, y, t);
+      for (int k = 0; k < 3; ++k) wab[k] += t[k];
+    };
+    add(uab, d);
+    add(f.ua[va], f.da[vb]);
+    add(f.ua[vb], f.da[va]);
+    add(u, dab);
+  } else {
+    lab = f.na[vb][va];
+    if (vb >= 3) rm.crossUnit(f.ua[vb], va, wab);  // u_b x e_a (u_a = 0, d_ab = u_ab = 0)
+  }
+  for (int k = 0; k < 3; ++k) {
+    hn[k] = (dab[k] - f.na[vb][k] * f.la[va] - f.na[va][k] * f.la[vb] - n[k] * lab) * inv;
+    hm[k] = (wab[k] - f.ma[vb][k] * f.la[va] - f.ma[va][k] * f.la[vb] - m[k] * lab) * inv;
+  }
+}
+
 /// One leg over a pose box (and the anchors' ranges), midpoint-radius: d = p + R b - A, u = R (b - c), w = u x d,
 /// n = d / L, m = w / L, inv = 1 / L (d, u, L from endpoint intervals, where the dependencies are few).
 struct LegBaseMR {
@@ -210,42 +283,16 @@ struct LegBaseMR {
   }
 };
 
-/// LegBaseMR and the first derivatives with respect to the six pose coordinates: d_a, u_a, L_a = n . d_a,
-/// n_a = (d_a - n L_a) / L, m_a = (u_a x d + u x d_a - m L_a) / L.
+/// LegBaseMR and the first derivatives with respect to the six pose coordinates (LegFirst).
 struct LegMR : LegBaseMR {
   S bv[3], bc[3];  // b and b - c
-  S da[6][3], ua[6][3], la[6], na[6][3], ma[6][3];
+  LegFirst<S> first;
   LegMR(const Rotation& rot, const RotationMR& rm, const IVec& q, const std::array<Interval, 3>& a,
         const std::array<Interval, 3>& b, const std::array<Interval, 3>& c)
-      : LegBaseMR(rot, q, a, b, c) {
-    for (int k = 0; k < 3; ++k) {
-      bv[k] = S(b[k]);
-      bc[k] = S(b[k] - c[k]);
-    }
-    for (int va = 0; va < 6; ++va) {
-      S wa[3];
-      if (va < 3) {
-        for (int k = 0; k < 3; ++k) {
-          da[va][k] = k == va ? rm.one : rm.zero;
-          ua[va][k] = rm.zero;
-        }
-        la[va] = n[va];
-        rm.crossUnit(u, va, wa);  // w_a = u x e_a
-      } else {
-        rm.first(va, bv, da[va]);
-        rm.first(va, bc, ua[va]);
-        la[va] = n[0] * da[va][0] + n[1] * da[va][1] + n[2] * da[va][2];
-        S t1[3], t2[3];
-        RotationMR::cross(ua[va], d, t1);
-        RotationMR::cross(u, da[va], t2);
-        for (int k = 0; k < 3; ++k) wa[k] = t1[k] + t2[k];
-      }
-      for (int k = 0; k < 3; ++k) {
-        na[va][k] = (da[va][k] - n[k] * la[va]) * inv;
-        ma[va][k] = (wa[k] - m[k] * la[va]) * inv;
-      }
-    }
-  }
+      : LegBaseMR(rot, q, a, b, c),
+        bv{S(b[0]), S(b[1]), S(b[2])},
+        bc{S(b[0] - c[0]), S(b[1] - c[1]), S(b[2] - c[2])},
+        first(rm, d, u, n, m, inv, bv, bc) {}
 };
 
 }  // namespace
@@ -732,6 +779,90 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
   }
 }
 
+bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
+                                                   std::array<DMat, MatrixHessian::kPairs>& out) const {
+  // The second derivatives of hessian() (same formulas) in first-order affine arithmetic, one symbol per pose
+  // coordinate: H_il(t) in Hc + sum_m A_m tau_m +- R entry by entry, so C H_il(t) in C Hc + sum_m (C A_m) tau_m +-
+  // |C| R, and |C H_il(t)| <= |C Hc| + sum_m |C A_m| + |C| R (+ the products' rounding, below 1e-13 of |C| times the
+  // magnitudes).
+  using S = interval::AffineForm<kMaxDof>;
+  if (q.size() != 6 || c.rows() != 6 || c.cols() != 6) return false;
+  S pose[6];
+  for (int m = 0; m < 6; ++m) pose[m] = S::variable(q[m], m);
+  RotationOps<S> rm;
+  rm.sr = sin(pose[3]);
+  rm.cr = cos(pose[3]);
+  const S sp = sin(pose[4]), cp = cos(pose[4]);
+  rm.sy = sin(pose[5]);
+  rm.cy = cos(pose[5]);
+  const S &sr = rm.sr, &cr = rm.cr, &sy = rm.sy, &cy = rm.cy;
+  const S cysp = cy * sp, sysp = sy * sp, cycp = cy * cp, sycp = sy * cp;
+  const S r[3][3] = {{cycp, cysp * sr - sy * cr, cysp * cr + sy * sr},
+                     {sycp, sysp * sr + cy * cr, sysp * cr - cy * sr},
+                     {-sp, cp * sr, cp * cr}};
+  const S dp[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) {
+      rm.r[k][l] = r[k][l];
+      rm.dp[k][l] = dp[k][l];
+    }
+  static thread_local std::array<std::array<S, 36>, MatrixHessian::kPairs> h;
+  bool finite = true;
+  for (int i = 0; i < 6; ++i) {
+    S bv[3], bc[3], d[3], u[3], w[3], n[3], m[3];
+    for (int k = 0; k < 3; ++k) {
+      bv[k] = S(bMid_[i][k]);
+      bc[k] = S(bMid_[i][k] - cMid_[k]);
+    }
+    for (int k = 0; k < 3; ++k) {
+      d[k] = pose[k] + (r[k][0] * bv[0] + r[k][1] * bv[1] + r[k][2] * bv[2]) - S(aMid_[i][k]);
+      u[k] = r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2];
+    }
+    const S inv = reciprocal(sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+    RotationOps<S>::cross(u, d, w);
+    for (int k = 0; k < 3; ++k) {
+      n[k] = d[k] * inv;
+      m[k] = w[k] * inv;
+    }
+    const LegFirst<S> first(rm, d, u, n, m, inv, bv, bc);
+    for (int va = 0; va < 6; ++va) {
+      for (int vb = va; vb < 6; ++vb) {
+        S hn[3], hm[3];
+        legSecond(rm, d, u, n, m, inv, bv, bc, first, va, vb, hn, hm);
+        std::array<S, 36>& hp = h[MatrixHessian::index(va, vb)];
+        for (int k = 0; k < 3; ++k) {
+          hp[i * 6 + k] = hn[k];
+          hp[i * 6 + 3 + k] = hm[k];
+          finite = finite && hn[k].finite() && hm[k].finite();
+        }
+      }
+    }
+  }
+  if (!finite) return false;
+  const DMat absC = c.cwiseAbs();
+  for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+    DMat centre(6, 6), radius(6, 6), scale = DMat::Zero(6, 6);
+    for (int row = 0; row < 6; ++row)
+      for (int col = 0; col < 6; ++col) {
+        centre(row, col) = h[p][row * 6 + col].centre();
+        radius(row, col) = h[p][row * 6 + col].radius();
+      }
+    DMat mag = (c * centre).cwiseAbs();
+    scale += absC * centre.cwiseAbs();
+    for (int s2 = 0; s2 < 6; ++s2) {
+      DMat a(6, 6);
+      for (int row = 0; row < 6; ++row)
+        for (int col = 0; col < 6; ++col) a(row, col) = h[p][row * 6 + col].coefficient(s2);
+      mag += (c * a).cwiseAbs();
+      scale += absC * a.cwiseAbs();
+    }
+    mag += absC * radius;
+    out[p] = ((mag + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
+    if (!out[p].allFinite()) return false;
+  }
+  return true;
+}
+
 bool GoughPlatform::inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second) const {
   return hessian(pose, aMid_, bMid_, cMid_, out, second);
 }
@@ -756,7 +887,6 @@ bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
   using S = interval::MidRad;
   const Rotation rot(q);
   const RotationMR rm(rot);
-  const S& zero = rm.zero;
   bool finite = true;
   for (auto& f : out.first) f.resize(6, 6);
   for (auto& h : out.d) h.resize(second ? 6 : 0, 6);
@@ -765,55 +895,21 @@ bool GoughPlatform::hessian(const IVec& q, const Anchors& a, const Anchors& b, c
     // The first derivatives (n_a, m_a) of row i.
     for (int va = 0; va < 6; ++va)
       for (int k = 0; k < 3; ++k) {
-        finite = finite && leg.na[va][k].finite() && leg.ma[va][k].finite();
-        out.first[va](i, k) = leg.na[va][k].toInterval();
-        out.first[va](i, 3 + k) = leg.ma[va][k].toInterval();
+        finite = finite && leg.first.na[va][k].finite() && leg.first.ma[va][k].finite();
+        out.first[va](i, k) = leg.first.na[va][k].toInterval();
+        out.first[va](i, 3 + k) = leg.first.ma[va][k].toInterval();
       }
     if (!second) continue;
-    const S(&d)[3] = leg.d;
-    const S(&u)[3] = leg.u;
-    const S(&n)[3] = leg.n;
-    const S(&m)[3] = leg.m;
-    const S& inv = leg.inv;
-    const S(&bv)[3] = leg.bv;
-    const S(&bc)[3] = leg.bc;
-    const auto& da = leg.da;
-    const auto& ua = leg.ua;
-    const auto& la = leg.la;
-    const auto& na = leg.na;
-    const auto& ma = leg.ma;
     for (int va = 0; va < 6; ++va) {
       for (int vb = va; vb < 6; ++vb) {
-        // (va <= vb) Translations have d_a = e_a, u_a = 0: d_ab = u_ab = 0 unless both are rotations, and the
-        // products with e_a are component selections.
-        const bool rotations = va >= 3;
-        S dab[3] = {zero, zero, zero}, uab[3] = {zero, zero, zero}, wab[3] = {zero, zero, zero};
-        S lab;
-        if (rotations) {
-          rm.second(va, vb, bv, dab);
-          rm.second(va, vb, bc, uab);
-          lab = na[vb][0] * da[va][0] + na[vb][1] * da[va][1] + na[vb][2] * da[va][2] +
-                (n[0] * dab[0] + n[1] * dab[1] + n[2] * dab[2]);
-          S t[3];
-          auto add = [&](const S x[3], const S y[3]) {
-            RotationMR::cross(x, y, t);
-            for (int k = 0; k < 3; ++k) wab[k] += t[k];
-          };
-          add(uab, d);
-          add(ua[va], da[vb]);
-          add(ua[vb], da[va]);
-          add(u, dab);
-        } else {
-          lab = na[vb][va];
-          if (vb >= 3) rm.crossUnit(ua[vb], va, wab);  // u_b x e_a (u_a = 0, d_ab = u_ab = 0)
-        }
+        S hn[3], hm[3];
+        legSecond(static_cast<const RotationOps<S>&>(rm), leg.d, leg.u, leg.n, leg.m, leg.inv, leg.bv, leg.bc,
+                  leg.first, va, vb, hn, hm);
         IMat& h = out.d[MatrixHessian::index(va, vb)];
         for (int k = 0; k < 3; ++k) {
-          const S hn = (dab[k] - na[vb][k] * la[va] - na[va][k] * la[vb] - n[k] * lab) * inv;
-          const S hm = (wab[k] - ma[vb][k] * la[va] - ma[va][k] * la[vb] - m[k] * lab) * inv;
-          finite = finite && hn.finite() && hm.finite();
-          h(i, k) = hn.toInterval();
-          h(i, 3 + k) = hm.toInterval();
+          finite = finite && hn[k].finite() && hm[k].finite();
+          h(i, k) = hn[k].toInterval();
+          h(i, 3 + k) = hm[k].toInterval();
         }
       }
     }

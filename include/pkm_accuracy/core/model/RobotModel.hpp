@@ -73,6 +73,14 @@ class RobotModel {
                                                       bool /*second*/ = true) const {
     return false;
   }
+  /// Upper bounds, over a pose box with every geometry parameter at its centre value, of |C d^2 J^-1 / dt_i dt_l|
+  /// entry by entry for a given matrix C (out[MatrixHessian::index(i, l)]), where the model can keep the first-order
+  /// correlations of the second derivatives over the box (affine forms), so that the products with C cancel between
+  /// legs where the interval enclosures' |C| rad(H) does not. @return false if the model does not provide them.
+  virtual bool preconditionedHessianMagnitude(const IVec& /*pose*/, const DMat& /*c*/,
+                                              std::array<DMat, MatrixHessian::kPairs>& /*out*/) const {
+    return false;
+  }
   /// Enclosures, over a pose box and every admissible geometry, of the derivatives of J^-1 with respect to the
   /// geometry parameters. @return false if the model does not provide them.
   virtual bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const;
