@@ -257,6 +257,32 @@ void legSecond(const RotationOps<S>& rm, const S d[3], const S u[3], const S n[3
   }
 }
 
+/// The pose coordinates as affine forms in N symbols (one per coordinate, the first six) and the rotation pieces
+/// built from them: R = Rz(yaw) Ry(pitch) Rx(roll), its sines and cosines, and with `pitch` also dR/dpitch.
+template <int N>
+void affineRotation(const IVec& q, interval::AffineForm<N> pose[6], RotationOps<interval::AffineForm<N>>& rm,
+                    bool pitch) {
+  using Aff = interval::AffineForm<N>;
+  for (int m = 0; m < 6; ++m) pose[m] = Aff::variable(q[m], m);
+  rm.sr = sin(pose[3]);
+  rm.cr = cos(pose[3]);
+  const Aff sp = sin(pose[4]), cp = cos(pose[4]);
+  rm.sy = sin(pose[5]);
+  rm.cy = cos(pose[5]);
+  const Aff &sr = rm.sr, &cr = rm.cr, &sy = rm.sy, &cy = rm.cy;
+  const Aff cysp = cy * sp, sysp = sy * sp;
+  const Aff r[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
+                       {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
+                       {-sp, cp * sr, cp * cr}};
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) rm.r[k][l] = r[k][l];
+  if (!pitch) return;
+  const Aff cycp = cy * cp, sycp = sy * cp;
+  const Aff dp[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) rm.dp[k][l] = dp[k][l];
+}
+
 /// One leg over a pose box (and the anchors' ranges), midpoint-radius: d = p + R b - A, u = R (b - c), w = u x d,
 /// n = d / L, m = w / L, inv = 1 / L (d, u, L from endpoint intervals, where the dependencies are few).
 struct LegBaseMR {
@@ -466,13 +492,9 @@ void GoughPlatform::affineGeometryDerivativesWith(const IVec& q, GeometryDerivat
   // Evaluated in first-order affine arithmetic with one noise symbol per pose coordinate; the anchors' and the tool
   // point's ranges are constants, so their effect goes to the radii.
   Aff pose[6];
-  for (int m = 0; m < 6; ++m) pose[m] = Aff::variable(q[m], m);
-  const Aff sr = sin(pose[3]), cr = cos(pose[3]), sp = sin(pose[4]), cp = cos(pose[4]), sy = sin(pose[5]),
-            cy = cos(pose[5]);
-  const Aff cysp = cy * sp, sysp = sy * sp;
-  const Aff r[3][3] = {{cy * cp, cysp * sr - sy * cr, cysp * cr + sy * sr},
-                       {sy * cp, sysp * sr + cy * cr, sysp * cr - cy * sr},
-                       {-sp, cp * sr, cp * cr}};
+  RotationOps<Aff> rot;
+  affineRotation<N>(q, pose, rot, false);
+  const auto& r = rot.r;
   const bool toolAtOrigin = c_[0] == 0.0 && c_[1] == 0.0 && c_[2] == 0.0;
   Aff tool[3];
   for (int k = 0; k < 3 && !toolAtOrigin; ++k)
@@ -788,24 +810,9 @@ bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
   using S = interval::AffineForm<kMaxDof>;
   if (q.size() != 6 || c.rows() != 6 || c.cols() != 6) return false;
   S pose[6];
-  for (int m = 0; m < 6; ++m) pose[m] = S::variable(q[m], m);
   RotationOps<S> rm;
-  rm.sr = sin(pose[3]);
-  rm.cr = cos(pose[3]);
-  const S sp = sin(pose[4]), cp = cos(pose[4]);
-  rm.sy = sin(pose[5]);
-  rm.cy = cos(pose[5]);
-  const S &sr = rm.sr, &cr = rm.cr, &sy = rm.sy, &cy = rm.cy;
-  const S cysp = cy * sp, sysp = sy * sp, cycp = cy * cp, sycp = sy * cp;
-  const S r[3][3] = {{cycp, cysp * sr - sy * cr, cysp * cr + sy * sr},
-                     {sycp, sysp * sr + cy * cr, sysp * cr - cy * sr},
-                     {-sp, cp * sr, cp * cr}};
-  const S dp[3][3] = {{-cysp, cycp * sr, cycp * cr}, {-sysp, sycp * sr, sycp * cr}, {-cp, -sp * sr, -sp * cr}};
-  for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < 3; ++l) {
-      rm.r[k][l] = r[k][l];
-      rm.dp[k][l] = dp[k][l];
-    }
+  affineRotation<kMaxDof>(q, pose, rm, true);
+  const auto& r = rm.r;
   static thread_local std::array<std::array<S, 36>, MatrixHessian::kPairs> h;
   bool finite = true;
   for (int i = 0; i < 6; ++i) {
