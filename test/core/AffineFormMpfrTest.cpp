@@ -134,6 +134,37 @@ TEST(AffineFormMpfr, SquareTermsKeepTheirMean) {
   EXPECT_NEAR(sq.toInterval().upper(), 2.25, 1e-9);
 }
 
+TEST(AffineFormMpfr, ConvexRemaindersAreOneSided) {
+  // Where f'' keeps its sign over the range (1 / x and sqrt of positive forms, cos near 0), the Taylor remainder
+  // f''(xi) (x - c)^2 / 2 has that sign: the form's centre carries half of its largest value and the radius the other
+  // half. Checked in MPFR on x = c + a tau_0 at tau_0 in {-1, -1/2, 0, 1/2, 1} in every rounding mode: at tau_0 = 0
+  // the exact value lies at one edge of the band and at tau_0 = -+1 near the other, so a shift of the wrong sign or a
+  // radius of a quarter less fails; the radius is about half of the symmetric remainder's.
+  const int modes[4] = {FE_TONEAREST, FE_UPWARD, FE_DOWNWARD, FE_TOWARDZERO};
+  const double taus[5] = {-1.0, -0.5, 0.0, 0.5, 1.0};
+  for (int mode = 0; mode < 4; ++mode) {
+    for (const double rel : {0.05, 0.2, 0.4}) {
+      const double c = 1.5, a = rel * c;
+      const Aff x = Aff(c) + Aff::variable(Interval(-1.0, 1.0), 0) * a;
+      const int saved = std::fegetround();
+      std::fesetround(modes[mode]);
+      const Aff inv = reciprocal(x), root = sqrt(x), cosine = cos(x * (0.2 / c));
+      std::fesetround(saved);
+      for (const double t : taus) {
+        double tau[kN] = {t, 0.0, 0.0, 0.0, 0.0, 0.0};
+        const Mp xv = Mp(c) + Mp(a) * Mp(t);
+        ASSERT_TRUE(contains(inv, tau, Mp(1.0) / xv)) << rel << " " << t;
+        ASSERT_TRUE(contains(root, tau, pkm_accuracy::test::mpSqrt(xv))) << rel << " " << t;
+        ASSERT_TRUE(contains(cosine, tau, pkm_accuracy::test::mpCos(xv * Mp(0.2 / c)))) << rel << " " << t;
+      }
+      // 1 / x: f'' = 2 / x^3 over [c - a, c + a], symmetric remainder M a^2 / 2; one-sided: M a^2 / 4.
+      const double m = 2.0 / std::pow(c - a, 3);
+      EXPECT_LT(inv.radius(), 0.26 * m * a * a) << rel;
+      EXPECT_GT(inv.radius(), 0.24 * m * a * a) << rel;
+    }
+  }
+}
+
 TEST(AffineFormMpfr, VariableCoversItsInterval) {
   Gen gen(5);
   for (int c = 0; c < 1000; ++c) {

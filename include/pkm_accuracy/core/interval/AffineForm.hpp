@@ -130,21 +130,26 @@ class AffineForm {
   AffineForm& operator-=(const AffineForm& o) { return *this = *this - o; }
 
   /// f(x) = f(c) + f'(c) (x - c) + f''(xi) (x - c)^2 / 2: value0 and slope0 enclose f(c) and f'(c), curvature encloses
-  /// f'' over the range of x.
+  /// f'' over the range of x. Where f'' keeps its sign over the range (f convex or concave there: 1 / x, sqrt, cos near
+  /// 0), the remainder lies in [0, M dev^2 / 2] (or its mirror), M = |f''| max: its midpoint goes to the centre and the
+  /// radius is M dev^2 / 4, half the symmetric one.
   static AffineForm taylor(const AffineForm& x, const Interval& value0, const Interval& slope0,
                            const Interval& curvature) {
     AffineForm f;
     const double dev = x.deviation();
-    f.c_ = value0.mid();
     const double s = slope0.mid();
     const double sRad = radiusAbout(slope0, s);
-    const double cRad = radiusAbout(value0, f.c_);
-    double err = std::abs(f.c_);
+    const double quarter = 0.25 * curvature.mag() * up(dev * dev);  // (exact scaling but for underflow)
+    const double shift = curvature.lower() >= 0.0 ? quarter : (curvature.upper() <= 0.0 ? -quarter : 0.0);
+    f.c_ = value0.mid() + shift;
+    const double cRad = radiusAbout(value0, value0.mid());
+    double err = std::abs(value0.mid()) + std::abs(shift) + std::abs(f.c_);
     for (int m = 0; m < N; ++m) {
       f.a_[m] = s * x.a_[m];
       err += std::abs(f.a_[m]);
     }
-    f.r_ = up(cRad + std::abs(s) * x.r_ + sRad * dev + 0.5 * curvature.mag() * up(dev * dev) + kErr * err);
+    const double remainder = shift != 0.0 ? quarter : 2.0 * quarter;
+    f.r_ = up(cRad + std::abs(s) * x.r_ + sRad * dev + remainder + kErr * err);
     return f;
   }
 
