@@ -356,3 +356,76 @@ TEST(GoughPlatform, PreconditionedHessianMagnitudeBoundsEveryPointAndBeatsTheInt
   std::printf("sum of the bounds on 1/8 boxes: affine %.4g, interval %.4g\n", affineSum, intervalSum);
   EXPECT_LT(affineSum, 0.5 * intervalSum);
 }
+
+TEST(GoughPlatform, PreconditionedHessianLinearPartScalesAlongSegmentsFromTheCentre) {
+  // With `linear`, |C H_il(t0 + s dt)| <= out + s linear for every t0 + dt in the box (t0 its midpoint, s in [0, 1]):
+  // what lets the mean-value and Taylor forms of AffineInverseAction weight the linear part by 1/2 and 1/3. Checked
+  // against the analytic Hessian at points; on small boxes (where the affine remainder in `out` is second order and
+  // the linear part first order) the bound is reached to within a few percent at the 64 vertices scaled by s, so a
+  // linear part too small by a fifth, or one that did not scale with s, fails here. Without `linear`, `out` is the
+  // sum of both parts.
+  io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  std::mt19937_64 rng(5);
+  const IVec ws = rf.workspaces.at("paper").initialBox();
+  double closest[3] = {0.0, 0.0, 0.0};  // per s: the largest (|C H| - out) / (s linear) over the checks
+  const double scales[3] = {1.0, 0.5, 0.25};
+  int checked = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const DVec c = test::randomPoint(ws, rng);
+    const double frac = trial % 3 == 0 ? 0.25 : (trial % 3 == 1 ? 1.0 / 64 : 1.0 / 256);
+    IVec box(6), centre(6);
+    for (int i = 0; i < 6; ++i) {
+      const double h = frac * 0.5 * (ws[i].upper() - ws[i].lower());
+      box[i] = Interval(c[i] - h, c[i] + h);
+      centre[i] = Interval(box[i].mid());
+    }
+    const IMat mc = robot.inverseJacobianAtGeometryCentre(centre);
+    DMat mid(6, 6);
+    for (int r = 0; r < 6; ++r)
+      for (int col = 0; col < 6; ++col) mid(r, col) = mc(r, col).mid();
+    const DMat cInv = mid.inverse();
+    std::array<DMat, MatrixHessian::kPairs> out, linear, whole;
+    ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, out, &linear)) << trial;
+    ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, whole)) << trial;
+    for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+      const DMat sum = out[p] + linear[p];
+      for (int r = 0; r < 6; ++r)
+        for (int col = 0; col < 6; ++col) EXPECT_NEAR(whole[p](r, col), sum(r, col), 1e-9 * sum(r, col) + 1e-300);
+    }
+    for (int si = 0; si < 3; ++si) {
+      for (int v = 0; v < 64; ++v) {
+        IVec point(6);
+        for (int i = 0; i < 6; ++i) {
+          const double half = scales[si] * 0.5 * (box[i].upper() - box[i].lower());
+          point[i] = Interval(box[i].mid() + ((v >> i) & 1 ? half : -half));
+        }
+        MatrixHessian at;
+        ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(point, at));
+        for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+          DMat hm(6, 6), hr(6, 6);
+          for (int r = 0; r < 6; ++r)
+            for (int col = 0; col < 6; ++col) {
+              hm(r, col) = at.d[p](r, col).mid();
+              hr(r, col) = at.d[p](r, col).rad();
+            }
+          const DMat value = (cInv * hm).cwiseAbs() - cInv.cwiseAbs() * hr;  // <= |C H(point)|
+          for (int r = 0; r < 6; ++r)
+            for (int col = 0; col < 6; ++col) {
+              const double lin = scales[si] * linear[p](r, col);
+              EXPECT_LE(value(r, col), (out[p](r, col) + lin) * (1.0 + 1e-9) + 1e-12)
+                  << trial << " s " << scales[si] << " pair " << p << " " << r << col;
+              // (Entries whose linear part is tiny say nothing about it.)
+              if (frac < 0.01 && lin > 0.2 * out[p](r, col) && lin > 1e-9)
+                closest[si] = std::max(closest[si], (value(r, col) - out[p](r, col)) / lin);
+              ++checked;
+            }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(checked, 12 * 3 * 64 * MatrixHessian::kPairs * 36);
+  std::printf("largest (|C H| - out) / (s linear) on small boxes: s = 1 %.3f, 1/2 %.3f, 1/4 %.3f\n", closest[0],
+              closest[1], closest[2]);
+  for (int si = 0; si < 3; ++si) EXPECT_GT(closest[si], 0.8) << "s " << scales[si];
+}

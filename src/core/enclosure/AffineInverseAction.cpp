@@ -229,14 +229,25 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   static thread_local MatrixHessian hessian, atCentre;
   static thread_local MatrixWithGradient poseD;
   static thread_local std::array<DMat, MatrixHessian::kPairs> magCH;  // >= |C H_il| over the box
+  // With the box midpoint as the expansion's centre t0, the model's bound comes in two parts: magCH >= |C Hc| + |C| R
+  // and linCH >= sum_m |C A_m|, the part that varies linearly in the pose symbols, so that at t0 + s dt it is within
+  // s linCH: the mean-value form of D_i weights it by int_0^1 s ds = 1/2 and the Taylor slopes by
+  // int_0^1 (1 - s) s ds / int_0^1 (1 - s) ds = 1/3.
+  static thread_local std::array<DMat, MatrixHessian::kPairs> linCH;
   const bool poseBox = vars_ == n_ && box.variablesArePose(n_);
+  bool midpoint = poseBox;
+  for (int i = 0; i < vars_ && midpoint; ++i) {
+    const Interval& c = box.centrePose[i];
+    midpoint = c.lower() == c.upper() && c.lower() == box.pose[i].mid();
+  }
   bool atCentreOk = poseBox && model.inverseJacobianHessianAtGeometryCentre(box.centrePose, atCentre, false);
   for (int i = 0; i < vars_ && atCentreOk; ++i) atCentreOk = atCentre.first[i].rows() == n_;
   // |C H_il| over the box: preferably the model's bound through affine forms of H in the pose (C keeps its
   // cancellations against the Hessian's variation over the box, which |C| rad(H) of the interval Hessian loses: on the
   // paper workspace's deciding boxes the sampled variation of C H is 1/14 of that; bench/RESULTS.md, Session 24);
   // else the interval Hessian over the box, |C Hm| + |C| Hr, which also gives the first derivatives' ranges.
-  const bool affineHessian = atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH);
+  const bool affineHessian =
+      atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH, midpoint ? &linCH : nullptr);
   bool boxHessian = false;
   if (atCentreOk && !affineHessian) {
     boxHessian = model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian);
@@ -266,9 +277,16 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       product(c_, zero, m, r, cm, cr);
       DMat half = cr;  // the Taylor slope's radius (below)
       for (int l = 0; l < n_; ++l) {
-        const DMat t = upAll(DMat(magCH[MatrixHessian::index(i, l)] * devMag_[l]));
-        cr = upAll(DMat(cr + t));
-        half = upAll(DMat(half + 0.5 * t));
+        const int p = MatrixHessian::index(i, l);
+        const DMat t = upAll(DMat(magCH[p] * devMag_[l]));
+        if (affineHessian && midpoint) {
+          const DMat u = upAll(DMat(linCH[p] * devMag_[l]));
+          cr = upAll(DMat(cr + t + 0.5 * u));
+          half = upAll(DMat(half + 0.5 * t + (1.0 / 6.0) * u));  // (1/6 rounded: within upAll's margin)
+        } else {
+          cr = upAll(DMat(cr + t));
+          half = upAll(DMat(half + 0.5 * t));
+        }
       }
       tm[i] = cm;
       tr[i] = half;

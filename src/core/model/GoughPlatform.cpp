@@ -802,11 +802,12 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
 }
 
 bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
-                                                   std::array<DMat, MatrixHessian::kPairs>& out) const {
+                                                   std::array<DMat, MatrixHessian::kPairs>& out,
+                                                   std::array<DMat, MatrixHessian::kPairs>* linear) const {
   // The second derivatives of hessian() (same formulas) in first-order affine arithmetic, one symbol per pose
   // coordinate: H_il(t) in Hc + sum_m A_m tau_m +- R entry by entry, so C H_il(t) in C Hc + sum_m (C A_m) tau_m +-
   // |C| R, and |C H_il(t)| <= |C Hc| + sum_m |C A_m| + |C| R (+ the products' rounding, below 1e-13 of |C| times the
-  // magnitudes).
+  // magnitudes); with `linear` the middle term apart (RobotModel::preconditionedHessianMagnitude).
   using S = interval::AffineForm<kMaxDof>;
   if (q.size() != 6 || c.rows() != 6 || c.cols() != 6) return false;
   S pose[6];
@@ -854,16 +855,23 @@ bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
         centre(row, col) = h[p][row * 6 + col].centre();
         radius(row, col) = h[p][row * 6 + col].radius();
       }
-    DMat mag = (c * centre).cwiseAbs();
+    DMat mag = (c * centre).cwiseAbs(), slopes = DMat::Zero(6, 6);
     scale += absC * centre.cwiseAbs();
     for (int s2 = 0; s2 < 6; ++s2) {
       DMat a(6, 6);
       for (int row = 0; row < 6; ++row)
         for (int col = 0; col < 6; ++col) a(row, col) = h[p][row * 6 + col].coefficient(s2);
-      mag += (c * a).cwiseAbs();
+      slopes += (c * a).cwiseAbs();
       scale += absC * a.cwiseAbs();
     }
     mag += absC * radius;
+    // (The rounding margin 1e-13 scale covers every product with C, so it goes to both parts.)
+    if (linear != nullptr) {
+      (*linear)[p] = ((slopes + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
+      if (!(*linear)[p].allFinite()) return false;
+    } else {
+      mag += slopes;
+    }
     out[p] = ((mag + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
     if (!out[p].allFinite()) return false;
   }

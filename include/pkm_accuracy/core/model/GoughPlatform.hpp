@@ -41,8 +41,8 @@ class GoughPlatform final : public RobotModel {
   /// Also fills the entries' affine forms in the pose (GeometryRowDerivative::affine) for the anchor coordinates.
   bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
   bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second = true) const override;
-  bool preconditionedHessianMagnitude(const IVec& pose, const DMat& c,
-                                      std::array<DMat, MatrixHessian::kPairs>& out) const override;
+  bool preconditionedHessianMagnitude(const IVec& pose, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
+                                      std::array<DMat, MatrixHessian::kPairs>* linear = nullptr) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
   std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override;
 

@@ -76,9 +76,16 @@ class RobotModel {
   /// Upper bounds, over a pose box with every geometry parameter at its centre value, of |C d^2 J^-1 / dt_i dt_l|
   /// entry by entry for a given matrix C (out[MatrixHessian::index(i, l)]), where the model can keep the first-order
   /// correlations of the second derivatives over the box (affine forms), so that the products with C cancel between
-  /// legs where the interval enclosures' |C| rad(H) does not. @return false if the model does not provide them.
+  /// legs where the interval enclosures' |C| rad(H) does not.
+  /// The model's affine forms give H_il(t) in Hc + sum_m A_m tau_m +- R entry by entry, tau_m = (t_m - mid_m) /
+  /// (half-width of pose coordinate m) in [-1, 1]. Without `linear`, out[p] bounds |C Hc| + sum_m |C A_m| + |C| R;
+  /// with it, out[p] bounds |C Hc| + |C| R and linear[p] bounds sum_m |C A_m|, the part that varies linearly in tau,
+  /// so that |C H_il(t0 + s dt)| <= out[p] + s linear[p] on the segments from the box midpoint t0 (s in [0, 1]):
+  /// mean-value and Taylor forms about t0 may weight it by 1/2 and 1/3. @return false if the model does not provide
+  /// them.
   virtual bool preconditionedHessianMagnitude(const IVec& /*pose*/, const DMat& /*c*/,
-                                              std::array<DMat, MatrixHessian::kPairs>& /*out*/) const {
+                                              std::array<DMat, MatrixHessian::kPairs>& /*out*/,
+                                              std::array<DMat, MatrixHessian::kPairs>* /*linear*/ = nullptr) const {
     return false;
   }
   /// Enclosures, over a pose box and every admissible geometry, of the derivatives of J^-1 with respect to the
