@@ -651,11 +651,12 @@ TEST_F(CliTest, JsonOnStdoutAndUncertainty) {
 }
 
 TEST_F(CliTest, TimeLimitAndProgressInAPipe) {
-  // Max-error to 0.1 % over the whole paper workspace: far from done after 1.5 s. --progress in a pipe: plain
+  // Max-error to 0.1 % over the whole paper workspace with the anchors known to +-1 mm: far from done after 1.5 s
+  // (more than 15 s on 1 thread; without the uncertainty it now converges in about 1 s). --progress in a pipe: plain
   // lines, no carriage returns or escape sequences.
   const RunResult r =
-      run({"--robot", kRef6, "--workspace", "paper", "--mode", "max-error", "--alpha", "0.001", "--threads", "1",
-           "--time-limit", "1.5", "--progress", "--quiet", "--json", path("out.json")});
+      run({"--robot", kRef6, "--workspace", "paper", "--mode", "max-error", "--alpha", "0.001", "--uncertainty",
+           "0.001", "--threads", "1", "--time-limit", "1.5", "--progress", "--quiet", "--json", path("out.json")});
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   ASSERT_NE(r.err.find("pkm_verify: ["), std::string::npos) << r.err;

@@ -357,18 +357,20 @@ TEST(GoughPlatform, PreconditionedHessianMagnitudeBoundsEveryPointAndBeatsTheInt
   EXPECT_LT(affineSum, 0.5 * intervalSum);
 }
 
-TEST(GoughPlatform, PreconditionedHessianLinearPartScalesAlongSegmentsFromTheCentre) {
+TEST(GoughPlatform, PreconditionedHessianPartsScaleAlongSegmentsFromTheCentre) {
   // With `linear`, |C H_il(t0 + s dt)| <= out + s linear for every t0 + dt in the box (t0 its midpoint, s in [0, 1]):
   // what lets the mean-value and Taylor forms of AffineInverseAction weight the linear part by 1/2 and 1/3. Checked
   // against the analytic Hessian at points; on small boxes (where the affine remainder in `out` is second order and
   // the linear part first order) the bound is reached to within a few percent at the 64 vertices scaled by s, so a
   // linear part too small by a fifth, or one that did not scale with s, fails here. Without `linear`, `out` is the
-  // sum of both parts.
+  // sum of both parts. With `quadratic` too, |C H_il(t0 + s dt)| <= out + s linear + s^2 quadratic, checked the same
+  // way (GoughPlatform then evaluates in interval::SegmentAffineForm).
   io::RobotFile rf = test::ref6File();
   const model::GoughPlatform robot(rf.geometry);
   std::mt19937_64 rng(5);
   const IVec ws = rf.workspaces.at("paper").initialBox();
   double closest[3] = {0.0, 0.0, 0.0};  // per s: the largest (|C H| - out) / (s linear) over the checks
+  double splitSum[3] = {0.0, 0.0, 0.0}, wholeSum[3] = {0.0, 0.0, 0.0};  // the three-part and two-part bounds, summed
   const double scales[3] = {1.0, 0.5, 0.25};
   int checked = 0;
   for (int trial = 0; trial < 12; ++trial) {
@@ -385,9 +387,10 @@ TEST(GoughPlatform, PreconditionedHessianLinearPartScalesAlongSegmentsFromTheCen
     for (int r = 0; r < 6; ++r)
       for (int col = 0; col < 6; ++col) mid(r, col) = mc(r, col).mid();
     const DMat cInv = mid.inverse();
-    std::array<DMat, MatrixHessian::kPairs> out, linear, whole;
+    std::array<DMat, MatrixHessian::kPairs> out, linear, whole, out3, linear3, quadratic3;
     ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, out, &linear)) << trial;
     ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, whole)) << trial;
+    ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, out3, &linear3, &quadratic3)) << trial;
     for (int p = 0; p < MatrixHessian::kPairs; ++p) {
       const DMat sum = out[p] + linear[p];
       for (int r = 0; r < 6; ++r)
@@ -415,6 +418,12 @@ TEST(GoughPlatform, PreconditionedHessianLinearPartScalesAlongSegmentsFromTheCen
               const double lin = scales[si] * linear[p](r, col);
               EXPECT_LE(value(r, col), (out[p](r, col) + lin) * (1.0 + 1e-9) + 1e-12)
                   << trial << " s " << scales[si] << " pair " << p << " " << r << col;
+              const double s3 = scales[si];
+              const double split = out3[p](r, col) + s3 * linear3[p](r, col) + s3 * s3 * quadratic3[p](r, col);
+              EXPECT_LE(value(r, col), split * (1.0 + 1e-9) + 1e-12)
+                  << trial << " s " << s3 << " pair " << p << " " << r << col << " (three parts)";
+              splitSum[si] += split;
+              wholeSum[si] += out[p](r, col) + lin;
               // (Entries whose linear part is tiny say nothing about it.)
               if (frac < 0.01 && lin > 0.2 * out[p](r, col) && lin > 1e-9)
                 closest[si] = std::max(closest[si], (value(r, col) - out[p](r, col)) / lin);
@@ -428,4 +437,9 @@ TEST(GoughPlatform, PreconditionedHessianLinearPartScalesAlongSegmentsFromTheCen
   std::printf("largest (|C H| - out) / (s linear) on small boxes: s = 1 %.3f, 1/2 %.3f, 1/4 %.3f\n", closest[0],
               closest[1], closest[2]);
   for (int si = 0; si < 3; ++si) EXPECT_GT(closest[si], 0.8) << "s " << scales[si];
+  // With the remainder's s^2 part apart, the bound near the centre is far below the two-part one (whose remainder is
+  // the whole box's at every s); at s = 1 it may be a little above (no square means in the centres).
+  std::printf("three-part / two-part bounds summed: s = 1 %.3f, 1/2 %.3f, 1/4 %.3f\n", splitSum[0] / wholeSum[0],
+              splitSum[1] / wholeSum[1], splitSum[2] / wholeSum[2]);
+  EXPECT_LT(splitSum[2], 0.8 * wholeSum[2]);
 }

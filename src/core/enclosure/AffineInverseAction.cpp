@@ -229,11 +229,12 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   static thread_local MatrixHessian hessian, atCentre;
   static thread_local MatrixWithGradient poseD;
   static thread_local std::array<DMat, MatrixHessian::kPairs> magCH;  // >= |C H_il| over the box
-  // With the box midpoint as the expansion's centre t0, the model's bound comes in two parts: magCH >= |C Hc| + |C| R
-  // and linCH >= sum_m |C A_m|, the part that varies linearly in the pose symbols, so that at t0 + s dt it is within
-  // s linCH: the mean-value form of D_i weights it by int_0^1 s ds = 1/2 and the Taylor slopes by
-  // int_0^1 (1 - s) s ds / int_0^1 (1 - s) ds = 1/3.
-  static thread_local std::array<DMat, MatrixHessian::kPairs> linCH;
+  // With the box midpoint as the expansion's centre t0, the model's bound comes in three parts: at t0 + s dt,
+  // |C H_il| <= magCH + s linCH + s^2 quadCH (linCH >= sum_m |C A_m|, the part that varies linearly in the pose
+  // symbols; quadCH >= |C| R2, the affine forms' nonlinearity, which vanishes quadratically at t0; magCH the rest):
+  // the mean-value form of D_i weights them by int_0^1 s^k ds = 1, 1/2, 1/3 and the Taylor slopes by
+  // int_0^1 (1 - s) s^k ds / int_0^1 (1 - s) ds = 1, 1/3, 1/6.
+  static thread_local std::array<DMat, MatrixHessian::kPairs> linCH, quadCH;
   const bool poseBox = vars_ == n_ && box.variablesArePose(n_);
   bool midpoint = poseBox;
   for (int i = 0; i < vars_ && midpoint; ++i) {
@@ -247,7 +248,8 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // paper workspace's deciding boxes the sampled variation of C H is 1/14 of that; bench/RESULTS.md, Session 24);
   // else the interval Hessian over the box, |C Hm| + |C| Hr, which also gives the first derivatives' ranges.
   const bool affineHessian =
-      atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH, midpoint ? &linCH : nullptr);
+      atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH, midpoint ? &linCH : nullptr,
+                                                         midpoint ? &quadCH : nullptr);
   bool boxHessian = false;
   if (atCentreOk && !affineHessian) {
     boxHessian = model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian);
@@ -280,9 +282,10 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
         const int p = MatrixHessian::index(i, l);
         const DMat t = upAll(DMat(magCH[p] * devMag_[l]));
         if (affineHessian && midpoint) {
-          const DMat u = upAll(DMat(linCH[p] * devMag_[l]));
-          cr = upAll(DMat(cr + t + 0.5 * u));
-          half = upAll(DMat(half + 0.5 * t + (1.0 / 6.0) * u));  // (1/6 rounded: within upAll's margin)
+          const DMat u = upAll(DMat(linCH[p] * devMag_[l])), v = upAll(DMat(quadCH[p] * devMag_[l]));
+          // (1/3, 1/6, 1/12 rounded: within upAll's relative margin)
+          cr = upAll(DMat(cr + t + 0.5 * u + (1.0 / 3.0) * v));
+          half = upAll(DMat(half + 0.5 * t + (1.0 / 6.0) * u + (1.0 / 12.0) * v));
         } else {
           cr = upAll(DMat(cr + t));
           half = upAll(DMat(half + 0.5 * t));

@@ -8,6 +8,7 @@
 #include "pkm_accuracy/core/interval/AffineForm.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/MidRad.hpp"
+#include "pkm_accuracy/core/interval/SegmentAffineForm.hpp"
 
 namespace pkm_accuracy {
 namespace model {
@@ -259,10 +260,8 @@ void legSecond(const RotationOps<S>& rm, const S d[3], const S u[3], const S n[3
 
 /// The pose coordinates as affine forms in N symbols (one per coordinate, the first six) and the rotation pieces
 /// built from them: R = Rz(yaw) Ry(pitch) Rx(roll), its sines and cosines, and with `pitch` also dR/dpitch.
-template <int N>
-void affineRotation(const IVec& q, interval::AffineForm<N> pose[6], RotationOps<interval::AffineForm<N>>& rm,
-                    bool pitch) {
-  using Aff = interval::AffineForm<N>;
+template <typename Aff>
+void affineRotation(const IVec& q, Aff pose[6], RotationOps<Aff>& rm, bool pitch) {
   for (int m = 0; m < 6; ++m) pose[m] = Aff::variable(q[m], m);
   rm.sr = sin(pose[3]);
   rm.cr = cos(pose[3]);
@@ -320,6 +319,18 @@ struct LegMR : LegBaseMR {
         bc{S(b[0] - c[0]), S(b[1] - c[1]), S(b[2] - c[2])},
         first(rm, d, u, n, m, inv, bv, bc) {}
 };
+
+/// The remainder of a segment form in its two parts: returns r0, sets r2 (only SegmentAffineForm has them).
+template <int N>
+double remainderParts(const interval::SegmentAffineForm<N>& f, double& r2) {
+  r2 = f.quadraticRadius();
+  return f.constantRadius();
+}
+template <int N>
+double remainderParts(const interval::AffineForm<N>& f, double& r2) {
+  r2 = 0.0;
+  return f.radius();
+}
 
 }  // namespace
 
@@ -493,7 +504,7 @@ void GoughPlatform::affineGeometryDerivativesWith(const IVec& q, GeometryDerivat
   // point's ranges are constants, so their effect goes to the radii.
   Aff pose[6];
   RotationOps<Aff> rot;
-  affineRotation<N>(q, pose, rot, false);
+  affineRotation<Aff>(q, pose, rot, false);
   const auto& r = rot.r;
   const bool toolAtOrigin = c_[0] == 0.0 && c_[1] == 0.0 && c_[2] == 0.0;
   Aff tool[3];
@@ -803,16 +814,27 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
 
 bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
                                                    std::array<DMat, MatrixHessian::kPairs>& out,
-                                                   std::array<DMat, MatrixHessian::kPairs>* linear) const {
+                                                   std::array<DMat, MatrixHessian::kPairs>* linear,
+                                                   std::array<DMat, MatrixHessian::kPairs>* quadratic) const {
   // The second derivatives of hessian() (same formulas) in first-order affine arithmetic, one symbol per pose
   // coordinate: H_il(t) in Hc + sum_m A_m tau_m +- R entry by entry, so C H_il(t) in C Hc + sum_m (C A_m) tau_m +-
   // |C| R, and |C H_il(t)| <= |C Hc| + sum_m |C A_m| + |C| R (+ the products' rounding, below 1e-13 of |C| times the
-  // magnitudes); with `linear` the middle term apart (RobotModel::preconditionedHessianMagnitude).
-  using S = interval::AffineForm<kMaxDof>;
+  // magnitudes); with `linear` the middle term apart; with `quadratic` too, the forms are SegmentAffineForm and R
+  // splits into R0 + s^2 R2 on the segments from the box centre, |C| R2 apart
+  // (RobotModel::preconditionedHessianMagnitude).
   if (q.size() != 6 || c.rows() != 6 || c.cols() != 6) return false;
+  if (quadratic != nullptr && linear == nullptr) return false;
+  if (quadratic != nullptr) return hessianMagnitude<interval::SegmentAffineForm<kMaxDof>>(q, c, out, linear, quadratic);
+  return hessianMagnitude<interval::AffineForm<kMaxDof>>(q, c, out, linear, nullptr);
+}
+
+template <typename S>
+bool GoughPlatform::hessianMagnitude(const IVec& q, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
+                                     std::array<DMat, MatrixHessian::kPairs>* linear,
+                                     std::array<DMat, MatrixHessian::kPairs>* quadratic) const {
   S pose[6];
   RotationOps<S> rm;
-  affineRotation<kMaxDof>(q, pose, rm, true);
+  affineRotation<S>(q, pose, rm, true);
   const auto& r = rm.r;
   static thread_local std::array<std::array<S, 36>, MatrixHessian::kPairs> h;
   bool finite = true;
@@ -849,11 +871,12 @@ bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
   if (!finite) return false;
   const DMat absC = c.cwiseAbs();
   for (int p = 0; p < MatrixHessian::kPairs; ++p) {
-    DMat centre(6, 6), radius(6, 6), scale = DMat::Zero(6, 6);
+    DMat centre(6, 6), radius(6, 6), quad = DMat::Zero(6, 6), scale = DMat::Zero(6, 6);
     for (int row = 0; row < 6; ++row)
       for (int col = 0; col < 6; ++col) {
-        centre(row, col) = h[p][row * 6 + col].centre();
-        radius(row, col) = h[p][row * 6 + col].radius();
+        const S& f = h[p][row * 6 + col];
+        centre(row, col) = f.centre();
+        radius(row, col) = quadratic != nullptr ? remainderParts(f, quad(row, col)) : f.radius();
       }
     DMat mag = (c * centre).cwiseAbs(), slopes = DMat::Zero(6, 6);
     scale += absC * centre.cwiseAbs();
@@ -865,12 +888,16 @@ bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
       scale += absC * a.cwiseAbs();
     }
     mag += absC * radius;
-    // (The rounding margin 1e-13 scale covers every product with C, so it goes to both parts.)
+    // (The rounding margin 1e-13 scale covers every product with C, so it goes to each part.)
     if (linear != nullptr) {
       (*linear)[p] = ((slopes + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
       if (!(*linear)[p].allFinite()) return false;
     } else {
       mag += slopes;
+    }
+    if (quadratic != nullptr) {
+      (*quadratic)[p] = ((absC * quad).array() * (1.0 + 1e-12) + 1e-300).matrix();
+      if (!(*quadratic)[p].allFinite()) return false;
     }
     out[p] = ((mag + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
     if (!out[p].allFinite()) return false;

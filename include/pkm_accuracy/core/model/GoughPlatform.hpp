@@ -42,7 +42,8 @@ class GoughPlatform final : public RobotModel {
   bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
   bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second = true) const override;
   bool preconditionedHessianMagnitude(const IVec& pose, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
-                                      std::array<DMat, MatrixHessian::kPairs>* linear = nullptr) const override;
+                                      std::array<DMat, MatrixHessian::kPairs>* linear = nullptr,
+                                      std::array<DMat, MatrixHessian::kPairs>* quadratic = nullptr) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
   std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override;
 
@@ -63,6 +64,12 @@ class GoughPlatform final : public RobotModel {
   /// anchor coordinates of the entry's leg (GeometryRowDerivative::parameterSlopes).
   template <int N>
   void affineGeometryDerivativesWith(const IVec& pose, GeometryDerivatives& out) const;
+  /// preconditionedHessianMagnitude() in the affine form type S (interval::AffineForm or, for the split remainder,
+  /// interval::SegmentAffineForm).
+  template <typename S>
+  bool hessianMagnitude(const IVec& pose, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
+                        std::array<DMat, MatrixHessian::kPairs>* linear,
+                        std::array<DMat, MatrixHessian::kPairs>* quadratic) const;
 
   GoughGeometry geometry_;
   bool uncertain_;

@@ -81,11 +81,15 @@ class RobotModel {
   /// (half-width of pose coordinate m) in [-1, 1]. Without `linear`, out[p] bounds |C Hc| + sum_m |C A_m| + |C| R;
   /// with it, out[p] bounds |C Hc| + |C| R and linear[p] bounds sum_m |C A_m|, the part that varies linearly in tau,
   /// so that |C H_il(t0 + s dt)| <= out[p] + s linear[p] on the segments from the box midpoint t0 (s in [0, 1]):
-  /// mean-value and Taylor forms about t0 may weight it by 1/2 and 1/3. @return false if the model does not provide
-  /// them.
+  /// mean-value and Taylor forms about t0 may weight it by 1/2 and 1/3. With `quadratic` too (then `linear` is
+  /// required), R splits into R0 + s^2 R2 on those segments (the nonlinearity vanishes quadratically at t0): out[p]
+  /// bounds |C Hc| + |C| R0 and quadratic[p] |C| R2, so |C H_il(t0 + s dt)| <= out[p] + s linear[p] + s^2
+  /// quadratic[p] (weights 1/3 and 1/6 in the mean-value and Taylor forms). @return false if the model does not
+  /// provide them.
   virtual bool preconditionedHessianMagnitude(const IVec& /*pose*/, const DMat& /*c*/,
                                               std::array<DMat, MatrixHessian::kPairs>& /*out*/,
-                                              std::array<DMat, MatrixHessian::kPairs>* /*linear*/ = nullptr) const {
+                                              std::array<DMat, MatrixHessian::kPairs>* /*linear*/ = nullptr,
+                                              std::array<DMat, MatrixHessian::kPairs>* /*quadratic*/ = nullptr) const {
     return false;
   }
   /// Enclosures, over a pose box and every admissible geometry, of the derivatives of J^-1 with respect to the
