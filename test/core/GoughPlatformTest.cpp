@@ -33,6 +33,42 @@ DVec pose6(double x, double y, double z, double r, double p, double yw) {
   return v;
 }
 
+/// The box of `frac` of every range of ws around c, and C = the inverse of J^-1 at its midpoint (as in the expansions).
+void boxAndPreconditioner(const model::GoughPlatform& robot, const IVec& ws, const DVec& c, double frac, IVec& box,
+                          DMat& cInv) {
+  box.resize(6);
+  IVec centre(6);
+  for (int i = 0; i < 6; ++i) {
+    const double h = frac * 0.5 * (ws[i].upper() - ws[i].lower());
+    box[i] = Interval(c[i] - h, c[i] + h);
+    centre[i] = Interval(box[i].mid());
+  }
+  const IMat mc = robot.inverseJacobianAtGeometryCentre(centre);
+  DMat mid(6, 6);
+  for (int r = 0; r < 6; ++r)
+    for (int col = 0; col < 6; ++col) mid(r, col) = mc(r, col).mid();
+  cInv = mid.inverse();
+}
+
+/// Lower bounds of |C d^2 J^-1 / dt_i dt_l (q)| for every pair p (the analytic Hessian at the point q, whose interval
+/// enclosure is only a few ulps wide: |C mid| - |C| rad).
+std::array<DMat, MatrixHessian::kPairs> preconditionedHessianAt(const model::GoughPlatform& robot, const IVec& q,
+                                                                const DMat& c) {
+  MatrixHessian at;
+  EXPECT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(q, at));
+  std::array<DMat, MatrixHessian::kPairs> out;
+  for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+    DMat hm(6, 6), hr(6, 6);
+    for (int r = 0; r < 6; ++r)
+      for (int col = 0; col < 6; ++col) {
+        hm(r, col) = at.d[p](r, col).mid();
+        hr(r, col) = at.d[p](r, col).rad();
+      }
+    out[p] = (c * hm).cwiseAbs() - c.cwiseAbs() * hr;
+  }
+  return out;
+}
+
 }  // namespace
 
 TEST(GoughPlatform, InverseJacobianMatchesFiniteDifferencesOfLegLengths) {
@@ -303,17 +339,9 @@ TEST(GoughPlatform, PreconditionedHessianMagnitudeBoundsEveryPointAndBeatsTheInt
   for (int trial = 0; trial < 40; ++trial) {
     const DVec c = test::randomPoint(ws, rng);
     const double frac = trial % 8 == 7 ? 0.0 : std::pow(0.5, 1 + trial % 4);  // 1/2 .. 1/16 of the ranges, points
-    IVec box(6), centre(6);
-    for (int i = 0; i < 6; ++i) {
-      const double h = frac * 0.5 * (ws[i].upper() - ws[i].lower());
-      box[i] = Interval(c[i] - h, c[i] + h);
-      centre[i] = Interval(box[i].mid());
-    }
-    const IMat mc = robot.inverseJacobianAtGeometryCentre(centre);
-    DMat mid(6, 6);
-    for (int r = 0; r < 6; ++r)
-      for (int col = 0; col < 6; ++col) mid(r, col) = mc(r, col).mid();
-    const DMat cInv = mid.inverse();
+    IVec box;
+    DMat cInv;
+    boxAndPreconditioner(robot, ws, c, frac, box, cInv);
     std::array<DMat, MatrixHessian::kPairs> bound;
     ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, bound)) << trial;
     MatrixHessian overBox;
@@ -322,16 +350,9 @@ TEST(GoughPlatform, PreconditionedHessianMagnitudeBoundsEveryPointAndBeatsTheInt
       const DVec q = s == 0 ? DVec(c) : test::randomPoint(box, rng);
       IVec point(6);
       for (int i = 0; i < 6; ++i) point[i] = Interval(q[i]);
-      MatrixHessian at;
-      ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(point, at));
+      const std::array<DMat, MatrixHessian::kPairs> values = preconditionedHessianAt(robot, point, cInv);
       for (int p = 0; p < MatrixHessian::kPairs; ++p) {
-        DMat hm(6, 6), hr(6, 6);
-        for (int r = 0; r < 6; ++r)
-          for (int col = 0; col < 6; ++col) {
-            hm(r, col) = at.d[p](r, col).mid();
-            hr(r, col) = at.d[p](r, col).rad();
-          }
-        const DMat value = (cInv * hm).cwiseAbs() - cInv.cwiseAbs() * hr;  // <= |C H(q)|
+        const DMat& value = values[p];  // <= |C H(q)|
         for (int r = 0; r < 6; ++r)
           for (int col = 0; col < 6; ++col) {
             EXPECT_LE(value(r, col), bound[p](r, col) * (1.0 + 1e-9) + 1e-12) << trial << " " << p << " " << r << col;
@@ -376,17 +397,9 @@ TEST(GoughPlatform, PreconditionedHessianPartsScaleAlongSegmentsFromTheCentre) {
   for (int trial = 0; trial < 12; ++trial) {
     const DVec c = test::randomPoint(ws, rng);
     const double frac = trial % 3 == 0 ? 0.25 : (trial % 3 == 1 ? 1.0 / 64 : 1.0 / 256);
-    IVec box(6), centre(6);
-    for (int i = 0; i < 6; ++i) {
-      const double h = frac * 0.5 * (ws[i].upper() - ws[i].lower());
-      box[i] = Interval(c[i] - h, c[i] + h);
-      centre[i] = Interval(box[i].mid());
-    }
-    const IMat mc = robot.inverseJacobianAtGeometryCentre(centre);
-    DMat mid(6, 6);
-    for (int r = 0; r < 6; ++r)
-      for (int col = 0; col < 6; ++col) mid(r, col) = mc(r, col).mid();
-    const DMat cInv = mid.inverse();
+    IVec box;
+    DMat cInv;
+    boxAndPreconditioner(robot, ws, c, frac, box, cInv);
     std::array<DMat, MatrixHessian::kPairs> out, linear, whole, out3, linear3, quadratic3;
     ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, out, &linear)) << trial;
     ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, cInv, whole)) << trial;
@@ -403,16 +416,9 @@ TEST(GoughPlatform, PreconditionedHessianPartsScaleAlongSegmentsFromTheCentre) {
           const double half = scales[si] * 0.5 * (box[i].upper() - box[i].lower());
           point[i] = Interval(box[i].mid() + ((v >> i) & 1 ? half : -half));
         }
-        MatrixHessian at;
-        ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(point, at));
+        const std::array<DMat, MatrixHessian::kPairs> values = preconditionedHessianAt(robot, point, cInv);
         for (int p = 0; p < MatrixHessian::kPairs; ++p) {
-          DMat hm(6, 6), hr(6, 6);
-          for (int r = 0; r < 6; ++r)
-            for (int col = 0; col < 6; ++col) {
-              hm(r, col) = at.d[p](r, col).mid();
-              hr(r, col) = at.d[p](r, col).rad();
-            }
-          const DMat value = (cInv * hm).cwiseAbs() - cInv.cwiseAbs() * hr;  // <= |C H(point)|
+          const DMat& value = values[p];  // <= |C H(point)|
           for (int r = 0; r < 6; ++r)
             for (int col = 0; col < 6; ++col) {
               const double lin = scales[si] * linear[p](r, col);

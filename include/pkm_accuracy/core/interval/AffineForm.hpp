@@ -16,6 +16,7 @@
 
 #include <cmath>
 
+#include "pkm_accuracy/core/interval/AffineFunctions.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/Interval.hpp"
 #include "pkm_accuracy/core/interval/Rounding.hpp"
@@ -173,28 +174,22 @@ class AffineForm {
   double r_ = 0.0;
 };
 
-/// sqrt, 1 / x, sin and cos of an affine form (first-order Taylor form, remainder over the range).
+/// sqrt, 1 / x, sin and cos (AffineFunctions.hpp: first-order Taylor forms, remainders over the range).
 template <int N>
 AffineForm<N> sqrt(const AffineForm<N>& x) {
-  const Interval c(x.centre()), range = x.toInterval();
-  const Interval s = sqrt(c);
-  // (sqrt)' = 1 / (2 sqrt), (sqrt)'' = -1 / (4 x sqrt(x)); NaN / inf for ranges reaching 0 (callers check finite()).
-  return AffineForm<N>::taylor(x, s, Interval(1.0) / (Interval(2.0) * s),
-                               -(Interval(1.0) / (Interval(4.0) * range * sqrt(range))));
+  return taylorSqrt(x);
 }
 template <int N>
 AffineForm<N> reciprocal(const AffineForm<N>& x) {
-  const Interval c(x.centre()), range = x.toInterval();
-  const Interval inv = Interval(1.0) / c;
-  return AffineForm<N>::taylor(x, inv, -(inv * inv), Interval(2.0) / (range * range * range));
+  return taylorReciprocal(x);
 }
 template <int N>
 AffineForm<N> sin(const AffineForm<N>& x) {
-  return AffineForm<N>::taylor(x, sinPoint(x.centre()), cosPoint(x.centre()), -sin(x.toInterval()));
+  return taylorSin(x);
 }
 template <int N>
 AffineForm<N> cos(const AffineForm<N>& x) {
-  return AffineForm<N>::taylor(x, cosPoint(x.centre()), -sinPoint(x.centre()), -cos(x.toInterval()));
+  return taylorCos(x);
 }
 
 }  // namespace interval

@@ -20,6 +20,7 @@
 
 #include <cmath>
 
+#include "pkm_accuracy/core/interval/AffineFunctions.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/Interval.hpp"
 #include "pkm_accuracy/core/interval/Rounding.hpp"
@@ -166,27 +167,22 @@ class SegmentAffineForm {
   double r0_ = 0.0, r2_ = 0.0;
 };
 
-/// sqrt, 1 / x, sin and cos (first-order Taylor forms, remainders over the range).
+/// sqrt, 1 / x, sin and cos (AffineFunctions.hpp: first-order Taylor forms, remainders over the range).
 template <int N>
 SegmentAffineForm<N> sqrt(const SegmentAffineForm<N>& x) {
-  const Interval c(x.centre()), range = x.toInterval();
-  const Interval s = sqrt(c);
-  return SegmentAffineForm<N>::taylor(x, s, Interval(1.0) / (Interval(2.0) * s),
-                                      -(Interval(1.0) / (Interval(4.0) * range * sqrt(range))));
+  return taylorSqrt(x);
 }
 template <int N>
 SegmentAffineForm<N> reciprocal(const SegmentAffineForm<N>& x) {
-  const Interval c(x.centre()), range = x.toInterval();
-  const Interval inv = Interval(1.0) / c;
-  return SegmentAffineForm<N>::taylor(x, inv, -(inv * inv), Interval(2.0) / (range * range * range));
+  return taylorReciprocal(x);
 }
 template <int N>
 SegmentAffineForm<N> sin(const SegmentAffineForm<N>& x) {
-  return SegmentAffineForm<N>::taylor(x, sinPoint(x.centre()), cosPoint(x.centre()), -sin(x.toInterval()));
+  return taylorSin(x);
 }
 template <int N>
 SegmentAffineForm<N> cos(const SegmentAffineForm<N>& x) {
-  return SegmentAffineForm<N>::taylor(x, cosPoint(x.centre()), -sinPoint(x.centre()), -cos(x.toInterval()));
+  return taylorCos(x);
 }
 
 }  // namespace interval
