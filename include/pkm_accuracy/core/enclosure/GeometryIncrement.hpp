@@ -123,8 +123,7 @@ class GeometryIncrement {
   /// An upper bound of the second-order sum of row k as a form in tau (for the column whose dot products d_e . w are
   /// dws + the parameter terms' kw, and ab_i >= (A B)_i with its verified fixed point B).
   Form secondOrderForm(int k, const Form* dws, const double* kw, const double* ab) const;
-  /// out[e] >= dbar_e . w for every entry e (w: n forms in the same pose symbols; interval::affineDots, the
-  /// quadratic part bounded after the sum over the components).
+  /// out[e] >= dbar_e . w for every entry e (w: n forms in the same pose symbols).
   void dots(const Form* w, Form* out) const;
   /// out[e] >= sum_s |kappa_s . w| / 2 over the box for every entry e (the parameter terms of dbar_e . w, every
   /// gamma').
