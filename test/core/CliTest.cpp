@@ -803,10 +803,10 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_splits"].num(), 0.0);
 
-  // --geometry-form: dx 0.1% above its maximum, both forms certify it, with different searches (measured: 7 and 29
-  // boxes).
+  // --geometry-form: dx 0.09% above its maximum, both forms certify it, with different searches (measured, session
+  // 27: 11 and 15 boxes; at 0.15% both take 7 since the sign-coupled second-order terms).
   std::vector<double> looser = thresholds;
-  looser[0] = 1.1345e-4;
+  looser[0] = 1.1338e-4;
   Json forms[2];
   for (int f = 0; f < 2; ++f) {
     forms[f] = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(looser), "--uncertainty", "5e-4",

@@ -33,6 +33,7 @@
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/enclosure/GeometryIncrement.hpp"
 #include "pkm_accuracy/core/interval/AffineForm.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
@@ -632,10 +633,9 @@ void checkSecondOrderOnRandomBoxes(bool decomposed) {
       enclosure::ErrorBounds missing;
       in.targets = (b.upper + b.lower) * 0.5;
       method->enclose(robot, in, missing);
-      // Targets just below / well above the bounds: the decomposed form then takes the full bound with the second-
-      // order sum as a linear form in the pose symbols where the constant one misses (GeometryIncrement::bound's
-      // slack), and the coarse increase for the columns it certifies anyway (MeanValueEnclosure): bounds that
-      // differ from the untargeted ones and must hold all the same.
+      // Targets just below / well above the bounds: the decomposed form then takes the full bound (and the exact
+      // maximum at the pose vertices where a column misses), and the coarse increase for the columns it certifies
+      // anyway (MeanValueEnclosure): bounds that may differ from the untargeted ones and must hold all the same.
       enclosure::ErrorBounds near, generous;
       in.targets = b.upper * (1.0 - 1e-3);
       method->enclose(robot, in, near);
@@ -748,7 +748,6 @@ void checkSecondOrderOnRandomBoxes(bool decomposed) {
     }
     if (decomposed && !tool) {
       EXPECT_GT(coarse, boxes / 2);
-      EXPECT_GT(nearTighter, boxes / 2);
       EXPECT_GT(generousLooser, boxes / 2);
     }
     if (decomposed) {
@@ -758,8 +757,9 @@ void checkSecondOrderOnRandomBoxes(bool decomposed) {
     }
     // Not vacuous: on a single pose the bound exceeds the worst geometry found by a second-order amount only
     // (measured, combined: 0.14% at h = 0.5 mm, 1.5% with the tool point too, 1.8% at h = 1 mm, where f_k itself
-    // varies by +-8% and +-15%; decomposed: 0.21% and 1.7%).
-    EXPECT_LT(worstGap, tool ? 0.03 : (h == 0.0005 ? 0.015 : (decomposed ? 0.04 : 0.08)));
+    // varies by +-8% and +-15%; decomposed: 0.12% and 1.2% since the sign-coupled second-order terms of session 27,
+    // 0.21% and 1.7% before).
+    EXPECT_LT(worstGap, tool ? 0.03 : (h == 0.0005 ? 0.015 : (decomposed ? 0.02 : 0.08)));
     std::cout << "[ info     ] " << (decomposed ? "decomposed" : "combined") << ", h=" << h
               << (tool ? " with tool point" : "")
               << ": largest excess of the bound over the worst geometry found on single poses " << worstGap * 100
@@ -773,6 +773,78 @@ TEST(UncertaintyEnclosure, SecondOrderBoundsEveryAdmissibleGeometryOnRandomBoxes
 
 TEST(UncertaintyEnclosure, DecomposedFormBoundsEveryAdmissibleGeometryOnRandomBoxes) {
   checkSecondOrderOnRandomBoxes(true);
+}
+
+TEST(UncertaintyEnclosure, GeometryIncrementEntryBoundsHoldAndReachTheWorstVertex) {
+  // GeometryIncrement::entryIncrease(k, j) = DJ_kj >= |J_kj(t, g) - J_kj(t, g0)| for every pose of the box and every
+  // geometry: the fixed point of |Y| <= A + A |Y| tightened by the sign-coupled phi (tightenFixedPoint), DJ = |J0| Y.
+  // Checked at poses of random boxes (thin to 1/8 of the paper workspace) for random geometry vertices and, per
+  // entry, the vertex that the signs of dJ_kj / dg_p point to (the worst one to first order). DJ is exact to first
+  // order, so on thin boxes the worst vertex must reach most of it (a bound too small by a fifth would fail).
+  const io::RobotFile rf = test::ref6File();
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  std::mt19937_64 rng(2027);
+  int ready = 0, checked = 0;
+  double worstThin = 0.0;  // the largest |Delta J_kj| / DJ_kj on thin boxes
+  for (const double h : {0.0005, 0.001}) {
+    const Uncertain u(withUncertainty(h));
+    const model::GoughPlatform robot(u.geometry);
+    for (int trial = 0; trial < 12; ++trial) {
+      const int size = trial % 4;
+      const double fraction = size == 0 ? 0.0 : (size == 1 ? 1.0 / 64.0 : (size == 2 ? 1.0 / 16.0 : 1.0 / 8.0));
+      const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
+      enclosure::BoxInput in;
+      ws.poseView(box, true, in);
+      enclosure::AffineInverseAction act;
+      ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+      const DMat& c = act.preconditioner();
+      IMat all(6, 6);
+      for (int j = 0; j < 6; ++j)
+        for (int l = 0; l < 6; ++l) all(l, j) = Interval(c(l, j));
+      enclosure::AffineInverseAction::AffineMatrix jac;
+      ASSERT_TRUE(act.apply(all, jac));
+      enclosure::GeometryIncrement increment;
+      if (increment.prepare(robot, in, act, jac) != enclosure::GeometryIncrement::Preparation::Ready) continue;
+      ++ready;
+      for (int s = 0; s < 3; ++s) {
+        const DVec q = s == 0 ? test::randomPoint(box, rng) : randomVertexOf(box, rng);
+        const DMat j0 = model::GoughPlatform(u.at(u.nominal)).jacobian(q);
+        std::vector<DMat> dM;
+        for (int p = 0; p < u.count(); ++p) dM.push_back(u.inverseJacobianDerivative(u.nominal, p, q));
+        const auto check = [&](const Geometry& g, int onlyK, int onlyJ) {
+          const DMat jg = model::GoughPlatform(u.at(g)).jacobian(q);
+          for (int k = 0; k < 6; ++k)
+            for (int j = 0; j < 6; ++j) {
+              if (onlyK >= 0 && (k != onlyK || j != onlyJ)) continue;
+              const double diff = std::abs(jg(k, j) - j0(k, j));
+              const double dj = increment.entryIncrease(k, j);
+              EXPECT_LE(diff, dj * (1.0 + 1e-9) + 1e-12 * std::abs(j0(k, j)))
+                  << "k=" << k << " j=" << j << " h=" << h << " trial " << trial << " " << where(q);
+              if (size == 0 && dj > 1e-3 * j0.row(k).cwiseAbs().maxCoeff()) worstThin = std::max(worstThin, diff / dj);
+              ++checked;
+            }
+        };
+        check(u.randomVertex(rng), -1, -1);
+        check(u.randomVertex(rng), -1, -1);
+        for (int k = 0; k < 6; ++k)
+          for (int j = 0; j < 6; ++j) {
+            // dJ_kj / dg_p = -(J0 dM_p J0)_kj: the vertex raising J_kj - J0_kj or lowering it, whichever is larger.
+            Geometry up(u.count()), down(u.count());
+            for (int p = 0; p < u.count(); ++p) {
+              const double slope = -(j0.row(k) * dM[p] * j0.col(j))(0, 0);
+              up[p] = slope >= 0.0 ? u.hi[p] : u.lo[p];
+              down[p] = slope >= 0.0 ? u.lo[p] : u.hi[p];
+            }
+            check(up, k, j);
+            check(down, k, j);
+          }
+      }
+    }
+  }
+  EXPECT_GE(ready, 16);
+  EXPECT_GT(checked, 3000);
+  EXPECT_GT(worstThin, 0.8);
+  std::cout << "[ info     ] largest |Delta J_kj| / DJ_kj on thin boxes: " << worstThin << "\n";
 }
 
 TEST(UncertaintyEnclosure, RowMaskKeepsTheWantedComponentsBitForBit) {
@@ -1838,36 +1910,46 @@ TEST(UncertaintyEnclosure, AffineGeometryDotsKeepTheCornerBoundsTight) {
 }
 
 TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
-  // h = 1 mm on the 1/32 corner box: at +1% of the sampled maxima strategy (a) alone needs ~390 boxes and a few
-  // stalled boxes (stall_levels = 1) switch to bisecting the geometry. (At +1.5% the enclosures, since the bilinear
-  // pose x geometry bound, settle the box in 11 boxes before anything stalls; at +0.75% strategy (a) needs > 10^5.)
-  // The faces step, which stalled paths take first, is off here (its own tests are in section 7).
+  // h = 1 mm on the 1/32 corner box. At +0.4% of the sampled maxima strategy (a) alone does not conclude within 3 000
+  // boxes (the plain bound stays above the worst geometry by its second-order geometry remainder), while stalled paths
+  // (stall_levels = 1) that switch to bisecting the geometry prove SAFE (measured, session 27: 183 boxes, 32 geometry
+  // splits; at +0.75% strategy (a) settles the box in 5 boxes, at +0.2% neither within 2e4). 1% below the maxima
+  // every mode must find the same uncertainty-sensitive answer. The faces step, which stalled paths take first, is
+  // off here (its own tests are in section 7).
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = cornerBox(1.0 / 32.0);
   const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
   const Sampled s = sample(u, box, 100, 808);
-  for (const double factor : {1.01, 0.99}) {
+  for (const double factor : {1.004, 0.99}) {
     SCOPED_TRACE("thresholds x " + std::to_string(factor));
     verify::VerifierOptions o;
     o.thresholds = s.max * factor;
     o.threads = 1;
-    o.time_limit_s = 20.0;  // a safety net (each run takes < 0.2 s)
+    o.max_boxes = 3000;
     o.faces = false;
     o.geometry_splitting = verify::GeometrySplitting::Never;
     const auto never = verify::Verifier::run(robot, ws, o);
     EXPECT_EQ(never.stats.geometry_switches, 0u);
     EXPECT_EQ(never.stats.geometry_splits, 0u);
+    o.max_boxes = 20000;  // a safety net
     o.geometry_splitting = verify::GeometrySplitting::Auto;
     o.stall_levels = 1;
     const auto autoRun = verify::Verifier::run(robot, ws, o);
     std::cout << "[ info     ] x" << factor << ": strategy (a) " << never.stats.boxes << " boxes, auto "
-              << autoRun.stats.boxes << " boxes, " << autoRun.stats.geometry_switches << " switches\n";
-    EXPECT_EQ(autoRun.verdict, never.verdict) << autoRun.message << " / " << never.message;
-    EXPECT_EQ(autoRun.reason, never.reason);
+              << autoRun.stats.boxes << " boxes, " << autoRun.stats.geometry_switches << " switches, "
+              << autoRun.stats.geometry_splits << " geometry splits\n";
     EXPECT_GE(autoRun.stats.geometry_splits, autoRun.stats.geometry_switches);
+    // Threads: same verdict.
+    o.threads = 2;
+    const auto two = verify::Verifier::run(robot, ws, o);
+    EXPECT_EQ(two.verdict, autoRun.verdict) << two.message;
+    EXPECT_EQ(two.reason, autoRun.reason);
+    EXPECT_EQ(two.stats.threads, 2);
     if (factor > 1.0) {
-      EXPECT_EQ(never.verdict, Verdict::Safe) << never.message;
+      EXPECT_EQ(never.verdict, Verdict::Undecided) << never.message;
+      EXPECT_EQ(never.reason, UndecidedReason::BoxBudget) << never.message;
+      EXPECT_EQ(autoRun.verdict, Verdict::Safe) << autoRun.message;
       EXPECT_GT(autoRun.stats.geometry_switches, 0u);
       EXPECT_EQ(autoRun.undecided_box_count, 0u);
       EXPECT_NEAR(autoRun.stats.safe_fraction, 1.0, 1e-9);  // the geometry halves' volumes add up
@@ -1876,27 +1958,21 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
       // mode may prove SAFE, and no pose exceeds for every sampled geometry (max-of-min is ~85% of the max).
       EXPECT_EQ(never.verdict, Verdict::Undecided) << never.message;
       EXPECT_EQ(never.reason, UndecidedReason::UncertaintySensitive) << never.message;
+      EXPECT_EQ(autoRun.verdict, never.verdict) << autoRun.message;
+      EXPECT_EQ(autoRun.reason, never.reason);
+      o.threads = 1;
+      o.geometry_splitting = verify::GeometrySplitting::Always;
+      o.stall_levels = 0;
+      const auto always = verify::Verifier::run(robot, ws, o);
+      EXPECT_EQ(always.verdict, never.verdict) << always.message;
+      EXPECT_EQ(always.reason, never.reason);
     }
-    o.geometry_splitting = verify::GeometrySplitting::Always;
-    o.stall_levels = 0;
-    const auto always = verify::Verifier::run(robot, ws, o);
-    EXPECT_EQ(always.verdict, never.verdict) << always.message;
-    EXPECT_EQ(always.reason, never.reason);
-    // Threads: same verdict.
-    o.geometry_splitting = verify::GeometrySplitting::Auto;
-    o.stall_levels = 1;
-    o.threads = 2;
-    const auto two = verify::Verifier::run(robot, ws, o);
-    EXPECT_EQ(two.verdict, autoRun.verdict) << two.message;
-    EXPECT_EQ(two.reason, autoRun.reason);
-    EXPECT_EQ(two.stats.threads, 2);
   }
 
   // A tiny box budget: the undecided records searched on a geometry sub-box carry sub-intervals of the ranges (at
-  // +0.75%: at +1.25% the run settles the box within the budget since the bilinear pose x geometry bound; 150 boxes:
-  // with the decomposed form and the halving progress test, session 23, 300 left only 5 boxes undecided).
+  // +0.4% with 150 boxes, where the run above needs 183).
   verify::VerifierOptions o;
-  o.thresholds = s.max * 1.0075;
+  o.thresholds = s.max * 1.004;
   o.geometry_splitting = verify::GeometrySplitting::Auto;
   o.faces = false;
   o.stall_levels = 1;
@@ -1904,7 +1980,7 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
   o.max_boxes = 150;
   o.presample_points = 0;
   const auto partial = verify::Verifier::run(robot, ws, o);
-  std::cout << "[ info     ] x1.0075, 150 boxes: " << partial.stats.geometry_switches << " switches, "
+  std::cout << "[ info     ] x1.004, 150 boxes: " << partial.stats.geometry_switches << " switches, "
             << partial.undecided_boxes.size() << " undecided boxes listed\n";
   EXPECT_EQ(partial.verdict, Verdict::Undecided);
   EXPECT_EQ(partial.reason, UndecidedReason::BoxBudget);
@@ -1990,10 +2066,10 @@ TEST(UncertaintyVerifier, PresamplingCertifiesTheGridsWorstPointsOverEveryGeomet
 }
 
 TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
-  // h = 1 mm on the 1/128 corner box at +0.75% of the sampled maxima: the single-pose bound exceeds the worst
+  // h = 1 mm on the 1/128 corner box at +0.4% of the sampled maxima: the single-pose bound exceeds the worst
   // geometry by more than that at the corner (second-order remainder), so strategy (a) alone cannot conclude;
-  // bisecting the geometry does (the faces off), and so do the faces. (At +1% strategy (a) settles the box in 67
-  // boxes since the bilinear pose x geometry bound, at +3% at once.)
+  // bisecting the geometry does (the faces off), and so do the faces. (At +0.75% strategy (a) settles the box at
+  // once since the sign-coupled second-order terms, session 27; it needed 67 boxes at +1% before them.)
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = cornerBox(1.0 / 128.0);
@@ -2001,7 +2077,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   const Sampled s = sample(u, box, 100, 809);
   std::mt19937_64 rng(810);
   verify::VerifierOptions o;
-  o.thresholds = s.max * 1.0075;
+  o.thresholds = s.max * 1.004;
   o.threads = 1;
   o.faces = false;
   o.geometry_splitting = verify::GeometrySplitting::Never;
@@ -2019,7 +2095,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   std::cout << "[ info     ] faces, no geometry bisection: " << faced.stats.boxes << " boxes\n";
   o.faces = false;
   o.stall_levels = 0;
-  o.max_boxes = 20000;  // a safety net: measured 43 boxes (Always) and 653 (Auto, stall_levels = 1)
+  o.max_boxes = 20000;  // a safety net: measured 819 boxes (Always) and 37 (Auto, stall_levels = 1), session 27
   for (const auto mode : {verify::GeometrySplitting::Always, verify::GeometrySplitting::Auto}) {
     o.geometry_splitting = mode;
     o.stall_levels = mode == verify::GeometrySplitting::Auto ? 1 : 0;
@@ -2031,11 +2107,11 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
       EXPECT_NEAR(r.stats.safe_fraction, 1.0, 1e-9);
     }
   }
-  // Max-error mode with geometry bisection: brackets checked independently (alpha 1%: at 2% the bounds converge
-  // without any geometry split since the Taylor pose slopes).
+  // Max-error mode with geometry bisection: brackets checked independently (alpha 0.5%: at 1% the bounds converge
+  // without any geometry split since the sign-coupled second-order terms, session 27; at 0.3% not within 20 s).
   verify::VerifierOptions m;
   m.mode = verify::Mode::MaxError;
-  m.alpha = 0.01;
+  m.alpha = 0.005;
   m.geometry_splitting = verify::GeometrySplitting::Always;
   m.faces = false;
   m.time_limit_s = 20.0;
@@ -2346,14 +2422,15 @@ TEST(UncertaintyEnclosure, FaceBoundsHoldForEveryGeometryAndReachTheWorstVertex)
 }
 
 TEST(UncertaintyVerifier, FacesCertifyMarginsBelowTheFirstOrderRemainder) {
-  // h = 1 mm on a small box at the pitch corner, thresholds 0.5% above the sampled maximum of pitch (the others
-  // out of reach): the plain geometry-aware bound stays ~1.6% above the maximum there whatever the pose box (its
-  // second-order geometry remainder); stalled paths switch to the faces, whose bounds reach the worst vertex: SAFE.
+  // h = 1 mm on a small box at the pitch corner, thresholds 0.2% above the sampled maximum of pitch (the others
+  // out of reach): the plain geometry-aware bound stays ~0.4% above the maximum there whatever the pose box (its
+  // second-order geometry remainder; ~0.8% before the sign-coupled second-order terms of session 27, ~1.6% when the
+  // test was written); stalled paths switch to the faces, whose bounds reach the worst vertex: SAFE.
   // 0.5% below the sampled maximum it must not be SAFE (the sampled maximum is attained at an admissible geometry).
   // Both geometry forms (the decomposed default switches stalled paths to the combined form for the faces). Measured
-  // (session 23): 31 boxes each (255 with 6 stall levels instead of the default 3); with the stall test's old 10%
-  // progress the decomposed default's paths reached the faces only at the precision limit (UNDECIDED after 200 001
-  // boxes) and the combined form needed 2 439.
+  // (session 27, +0.2%): see the info line; (session 23, +0.5%): 31 boxes each (255 with 6 stall levels instead of the
+  // default 3); with the stall test's old 10% progress the decomposed default's paths reached the faces only at the
+  // precision limit (UNDECIDED after 200 001 boxes) and the combined form needed 2 439.
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = pitchCorner(0.0001, 0.00015);
@@ -2366,12 +2443,12 @@ TEST(UncertaintyVerifier, FacesCertifyMarginsBelowTheFirstOrderRemainder) {
     o.max_boxes = 20000;
     o.decompose_geometry = decomposed;
     o.thresholds = DVec::Constant(6, 1.0);
-    o.thresholds[4] = s.max[4] * 1.005;
+    o.thresholds[4] = s.max[4] * 1.002;
     const auto safe = verify::Verifier::run(robot, ws, o);
     EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
     EXPECT_GT(safe.stats.face_switches, 0u);
     EXPECT_GT(safe.stats.face_boxes, 0u);
-    std::cout << "[ info     ] " << (decomposed ? "decomposed" : "combined") << ", SAFE at +0.5%: " << safe.stats.boxes
+    std::cout << "[ info     ] " << (decomposed ? "decomposed" : "combined") << ", SAFE at +0.2%: " << safe.stats.boxes
               << " boxes, " << safe.stats.face_switches << " face switches\n";
     o.thresholds[4] = s.max[4] * 0.995;
     const auto below = verify::Verifier::run(robot, ws, o);

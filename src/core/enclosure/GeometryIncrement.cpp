@@ -15,20 +15,11 @@ namespace {
 /// A non-negative quantity computed in double (sums of at most 64 non-negative products): up() bounds the exact one.
 inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
 
+/// Rounds of GeometryIncrement::tightenFixedPoint.
+constexpr int kPhiRounds = 1;
+
 /// Upper bound of the magnitude of a form over the box.
 inline double mag(const GeometryIncrement::Form& f) { return f.toInterval().mag(); }
-
-/// A linear upper bound of |x| over the box for the form x = c + a.tau +- r: the secant of |.| over x's range,
-/// |x| <= w x + o, gives |x(tau)| <= (w c + |w| r + o) + w a.tau (no radius: a point-valued function of tau, so
-/// products of such bounds of non-negative quantities bound the products).
-inline GeometryIncrement::Form absUpper(const GeometryIncrement::Form& x) {
-  const interval::AbsSecant s = interval::absSecant(x.toInterval(), 1.0);
-  const GeometryIncrement::Form g = x * s.weight;
-  double a[kMaxDof];
-  for (int m = 0; m < kMaxDof; ++m) a[m] = g.coefficient(m);
-  const double c = interval::rounding::addUp(interval::rounding::addUp(g.centre(), g.radius()), s.offset);
-  return GeometryIncrement::Form::fromParts(c, a, 0.0);
-}
 
 }  // namespace
 
@@ -146,6 +137,7 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
   // A(i, j) >= |delta r_i . J0_{.,j}| (per (i, j) the entries added in the same order as entry by entry).
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) a_[i][j] = 0.0;
+  double dotCentre[GeometryDerivatives::kCapacity][kMaxDof], dotDev[GeometryDerivatives::kCapacity][kMaxDof];
   for (int j = 0; j < n_; ++j) {
     Form column[kMaxDof], out[GeometryDerivatives::kCapacity];
     double ssy[kMaxDof], sy[kMaxDof], kw[GeometryDerivatives::kCapacity];
@@ -158,11 +150,38 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
     parameterDots(column, kw);
     for (int e = 0; e < entries_; ++e) {
       a_[row_[e]][j] += entryH_[e] * up(mag(out[e]) + kw[e]);
-      dc_[e][j] = out[e];
-      kwc_[e][j] = kw[e];
+      // dbar_e . J0_{.,j} in centre +- deviation (with its parameter terms) over the box and every geometry.
+      double dev = out[e].radius();
+      for (int m = 0; m < kMaxDof; ++m) dev += std::abs(out[e].coefficient(m));
+      dotCentre[e][j] = out[e].centre();
+      dotDev[e][j] = up(up(dev) + kw[e]);
     }
   }
-  formsReady_ = false;
+  // phi(): per row i and sign pattern eta of its entries (the first one +1: |.| is even), |sum_e eta_e h_e c_ej|
+  // (sums of at most kPhiEntries products, rounding below 1e-14 times the sum of their magnitudes), and D.
+  for (int i = 0; i < n_; ++i) rowEntries_[i] = 0;
+  for (int e = 0; e < entries_; ++e) rowEntry_[row_[e]][rowEntries_[row_[e]]++] = e;
+  for (int i = 0; i < n_; ++i) {
+    const int m = rowEntries_[i];
+    for (int j = 0; j < n_; ++j) {
+      double d = 0.0;
+      for (int q = 0; q < m; ++q) d += entryH_[rowEntry_[i][q]] * dotDev[rowEntry_[i][q]][j];
+      phiD_[i][j] = up(d);
+    }
+    if (m > kPhiEntries) continue;
+    const int patterns = m > 0 ? 1 << (m - 1) : 1;
+    for (int eta = 0; eta < patterns; ++eta)
+      for (int j = 0; j < n_; ++j) {
+        double sum = 0.0, magnitude = 0.0;
+        for (int q = 0; q < m; ++q) {
+          const int e = rowEntry_[i][q];
+          const double t = entryH_[e] * dotCentre[e][j];
+          sum += (q > 0 && ((eta >> (q - 1)) & 1)) ? -t : t;
+          magnitude += std::abs(t);
+        }
+        phiP_[i][eta * n_ + j] = std::abs(sum) + 1e-14 * magnitude;
+      }
+  }
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) a_[i][j] = up(a_[i][j]);
   // Y = Delta M J (row i: delta r_i^T J, J = J(t, g)) satisfies Y = Delta M J0 + Delta M Delta J = Delta M J0 -
@@ -176,6 +195,17 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
   if (!aApprox_.allFinite()) aApprox_ = DMat::Identity(n_, n_);
   DMat ybar;
   if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return Preparation::Unverified;
+  // Column j of Y: |Y_ij| <= A_ij + |sum_i' (delta r_i . J0_{.,i'}) Y_i'j| <= A_ij + phi_i(|Y_.j|) (the signs of the
+  // Y_i'j chosen jointly with leg i's geometry).
+  for (int j = 0; j < n_; ++j) {
+    double rhs[kMaxDof], z[kMaxDof];
+    for (int i = 0; i < n_; ++i) {
+      rhs[i] = a_[i][j];
+      z[i] = ybar(i, j);
+    }
+    tightenFixedPoint(rhs, z, kPhiRounds);
+    for (int i = 0; i < n_; ++i) ybar(i, j) = z[i];
+  }
   for (int k = 0; k < n_; ++k)
     for (int j = 0; j < n_; ++j) {
       double s = 0.0;
@@ -329,7 +359,7 @@ GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::
   return Form::fromParts(a.centre(k, j), coefficients, a.radius(k, j));
 }
 
-bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const double* sy, double slack, Row& out) const {
+bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const {
   DMat rowB0 = DMat::Zero(n_, 1);  // >= |Delta M w|_i = |delta r_i . w|
   Form dws[GeometryDerivatives::kCapacity];
   columnDots(w, ssy, sy, dws);
@@ -416,65 +446,57 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
   }
   out.linear = Form::fromParts(lc[0], la[0], up(lr[0] + 1e-14 * lerr[0]));
   out.fixed = Form::fromParts(lc[1], la[1], up(lr[1] + 1e-14 * lerr[1]));
-  // Second order: sum_i |J0_ki| sum_i' A_ii' B_i' = sum_i |J0_ki| (A B)_i.
-  double ab[kMaxDof], second = 0.0;
+  // Second order: sum_i J0_ki sum_i' (delta r_i . J0_{.,i'}) (delta r_i' . y) <= sum_i |J0_ki| phi_i(B), B >= |delta r
+  // . y| the fixed point of B <= B0 + phi(B) (B0 >= |delta r . w|; y = w - J0 Delta M y), tightened from the linear
+  // one. (Session 27: the signs of the delta r_i' . y chosen jointly for row i, where (A B)_i takes every pair (i, i')
+  // at its own worst geometry: +-1 mm 11 123 -> 10 123 boxes, 1% above the maxima 25 955 -> 22 375; the bound of this
+  // sum as a function of the pose that sessions 21-26 kept beside the constant one no longer won: 10 127 boxes with
+  // it.)
+  double b0[kMaxDof], b[kMaxDof];
   for (int i = 0; i < n_; ++i) {
-    double s = 0.0;
-    for (int i2 = 0; i2 < n_; ++i2) s += a_[i][i2] * rowB(i2, 0);
-    ab[i] = up(s);
-    second += magJ0_[k][i] * ab[i];
+    b0[i] = rowB0(i, 0);
+    b[i] = rowB(i, 0);
   }
+  tightenFixedPoint(b0, b, kPhiRounds);
+  double second = 0.0;
+  for (int i = 0; i < n_; ++i) second += magJ0_[k][i] * phi(i, b);
   second = up(second);
-  // Where the column misses its slack with that constant but not without it, the same sum as a function of tau; the
-  // smaller maximum is kept. (Only a choice of how much work: either bound is valid. Where the column misses even
-  // without the sum, the form, >= 0 at every pose, cannot get its linear bound under the slack: skipping it there,
-  // +-1 mm 58 099 -> 57 551 boxes, +-0.5 mm 32 823 -> 32 771, as the hints then see the sum as a constant.)
-  double secondMax = second;
-  bool asForm = false;
-  const double linearUpper = out.linear.toInterval().upper();
-  if (linearUpper + up(up(constant) + up(second + up(cross))) > slack && !(linearUpper + constant > slack)) {
-    const Form t2 = secondOrderForm(k, dws, kw, ab);
-    const double t2Upper = t2.toInterval().upper();
-    if (t2.finite() && t2Upper < second) {
-      out.linear += t2;
-      out.fixed += t2;
-      secondMax = t2Upper;
-      asForm = true;
-    }
-  }
-  out.second = asForm ? up(cross) : up(second + up(cross));
+  out.second = up(second + up(cross));
   out.constant = up(up(constant) + out.second);
-  out.magnitude = up(up(magnitude) + up(secondMax + up(cross)));
+  out.magnitude = up(up(magnitude) + out.second);
   return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);
 }
 
-GeometryIncrement::Form GeometryIncrement::secondOrderForm(int k, const Form* dws, const double* kw,
-                                                           const double* ab) const {
-  // The factors of sum_i |J0_ki| sum_i' A_ii' B_i' as linear upper bounds in tau of non-negative quantities
-  // (absUpper), whose products then bound the products: |J0_ki| <= absJ0_ki(tau), A_ii' <= aF_ii'(tau) (the same
-  // dot products as A) and |delta r_i' . y| <= |delta r_i' . w| + (A B)_i' <= bF_i'(tau) + ab_i' (y = w - J0 Delta M
-  // y, B the verified fixed point). The factors peak at different poses: at +-1 mm 4.9% fewer boxes
-  // (bench/RESULTS.md, session 21), from the smaller maximum (its linear part cancels little against the column's).
-  if (!formsReady_) {
-    for (int i = 0; i < n_; ++i)
-      for (int j = 0; j < n_; ++j) aF_[i][j] = Form(0.0);
-    for (int e = 0; e < entries_; ++e)
-      for (int j = 0; j < n_; ++j)
-        aF_[row_[e]][j] += absUpper(dc_[e][j]) * entryH_[e] + Form(up(entryH_[e] * kwc_[e][j]));
-    for (int k2 = 0; k2 < n_; ++k2)
-      for (int i = 0; i < n_; ++i) absJ0_[k2][i] = absUpper(j0_[k2][i]);
-    formsReady_ = true;
+double GeometryIncrement::phi(int i, const double* x) const {
+  const int m = rowEntries_[i];
+  double base = 0.0;
+  for (int j = 0; j < n_; ++j) base += x[j] * phiD_[i][j];
+  if (m > kPhiEntries) {
+    double s = 0.0;
+    for (int j = 0; j < n_; ++j) s += a_[i][j] * x[j];
+    return up(s);
   }
-  Form bF[kMaxDof];
-  for (int e = 0; e < entries_; ++e) bF[row_[e]] += absUpper(dws[e]) * entryH_[e] + Form(up(entryH_[e] * kw[e]));
-  for (int i = 0; i < n_; ++i) bF[i] += Form(ab[i]);
-  Form t2(0.0);
-  for (int i = 0; i < n_; ++i) {
-    Form inner(0.0);
-    for (int i2 = 0; i2 < n_; ++i2) inner += aF_[i][i2] * bF[i2];
-    t2 += absJ0_[k][i] * inner;
+  const int patterns = m > 0 ? 1 << (m - 1) : 1;
+  double best = 0.0;
+  for (int eta = 0; eta < patterns; ++eta) {
+    const double* p = phiP_[i] + eta * n_;
+    double t = 0.0;
+    for (int j = 0; j < n_; ++j) t += x[j] * p[j];
+    best = std::max(best, t);
   }
-  return t2;
+  return up(up(best) + up(base));
+}
+
+void GeometryIncrement::tightenFixedPoint(const double* rhs, double* z, int rounds) const {
+  // With z >= rhs + A z >= rhs + phi(z) (phi <= A x), z' = min(z, rhs + phi(z)) satisfies rhs + phi(z') <= rhs +
+  // phi(z) <= z' (phi is monotone): again such a bound. And any x >= 0 with x <= rhs + phi(x) (the true |Delta M y|,
+  // |Y_.j|) is below it: x <= rhs + phi(z' + (x - z')+) <= z' + phi((x - z')+) (phi subadditive), so
+  // (x - z')+ <= phi((x - z')+) <= A (x - z')+, which is 0 as A's spectral radius is below 1.
+  for (int round = 0; round < rounds; ++round) {
+    double next[kMaxDof];
+    for (int i = 0; i < n_; ++i) next[i] = interval::rounding::addUp(rhs[i], phi(i, z));
+    for (int i = 0; i < n_; ++i) z[i] = std::min(z[i], next[i]);
+  }
 }
 
 }  // namespace enclosure

@@ -333,9 +333,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
               ssy[l] = nv.ssy(l, q);
               sy[l] = nv.sy(l, q);
             }
-            const double slack = targeted ? (Interval(box.targets[k]) - rest[k]).lower() - comb.upper()
-                                          : std::numeric_limits<double>::infinity();
-            if (!increment.bound(k, w, ssy, sy, slack, r)) return false;
+            if (!increment.bound(k, w, ssy, sy, r)) return false;
           }
           nominal = comb;
           double err = std::abs(comb.centre) + std::abs(r.linear.centre());

@@ -158,10 +158,13 @@ class Run {
     in.knownSigns = track.signs;
     in.faces = track.faces;
     in.useFaces = track.useFaces;
-    // (The decomposed form on the paths that have not stalled; the combined one certifies the monotone directions the
-    // faces need, and its geometry hints are what strategy (b) reads.)
-    in.decomposeGeometry = options_.decompose_geometry && !track.useFaces && !track.geometry &&
-                           options_.geometry_splitting != GeometrySplitting::Always;
+    // (The decomposed form except on the paths bounded on their faces: the combined one certifies the monotone
+    // directions the faces need. Geometry halves (strategy (b), Auto and Always) take the decomposed form about their
+    // own centre since session 27: with the sign-coupled second-order terms it is the tighter one there too, and its
+    // first-order coefficients give the geometry hints. The 1/32 corner box at +-1 mm, 0.4% above its sampled
+    // maxima: Auto SAFE after 183 boxes (32 geometry splits), UNDECIDED after 2e4 with the combined form on the halves;
+    // Always on the 1/128 corner box SAFE after 819 boxes, UNDECIDED after 2e4 with the combined form.)
+    in.decomposeGeometry = options_.decompose_geometry && !track.useFaces;
     in.rows = active;  // components decided on a containing box need no bound here
     in.targets.resize(n_);
     for (int k = 0; k < n_; ++k) in.targets[k] = target(k);

@@ -16,19 +16,20 @@
 // affine forms, from the nominal AffineInverseAction, with those of dbar_p): its maximum over gamma is
 // sum_p h_p |b_p|, bounded by the secant of |x| over b_p's range, a linear form in tau plus a constant. The linear
 // part joins the nominal bound's own linear part (the same tau), so the pose slopes of the nominal error and of its
-// geometry increase cancel where they do. The second sum is bounded by sum_i |J0_ki| sum_i' A_ii' B_i',
-// A_ii' >= sum_{p of row i} h_p |dbar_p . J0_{.,i'}|, B_i' >= sum_{q of row i'} h_q |dbar_q . y| (the dot products keep
-// their cancellations), |dbar_q . y| <= |dbar_q . w| + |dbar_q| |Delta J u|, and |Delta J| <= DJ, the verified fixed
-// point of |J0| A + |J0| |Delta M| DJ (Delta J = -J0 Delta M J0 - J0 Delta M Delta J), which also decides which entries
-// keep their signs over Q x G (|J0_kj| > DJ_kj) and bounds the others' e_j |Delta J_kj|.
+// geometry increase cancel where they do. The second sum is bounded by sum_i |J0_ki| phi_i(B), phi_i(B) >=
+// |sum_i' (delta r_i . J0_{.,i'}) z_i'| for every |z| <= B (the signs of z chosen jointly with leg i's geometry; at
+// most (A B)_i, A_ii' >= sum_{p of row i} h_p |dbar_p . J0_{.,i'}|), B_i' >= sum_{q of row i'} h_q |dbar_q . y| the
+// verified fixed point of B <= B0 + phi(B), B0_i >= sum h_q |dbar_q . w| (y = w - J0 Delta M y; the dot products keep
+// their cancellations), and |Delta J| <= DJ = |J0| Y, Y the verified fixed point of |Y_.j| <= A_.j + phi(|Y_.j|) (Y =
+// Delta M J, Delta J = -J0 Y), which also decides which entries keep their signs over Q x G (|J0_kj| > DJ_kj) and
+// bounds the others' e_j |Delta J_kj|.
 //
 // Refinements (docs/uncertainty.md, "Decomposed form"): the part S S y of w's radius (the nominal expansion's pose
 // remainder) enters dbar_e . w as |dbar_e^T S| |S y| where that is smaller (columnDots); with the model's
 // parameter terms (GeometryDerivatives::withParameterSlopes) dbar_e = (pose form) + sum_s kappa_s gamma'_s / 2 + its
 // remainder, and the products gamma_p gamma'_s are bounded apart (parameterDots) instead of widening dbar_e;
 // rowBound() is the coarse bound for rows that are split anyway, and Row::fixed / straddle let the caller take the
-// exact maximum of the first-order part over the pose vertices; where a column misses its target, bound() also bounds
-// the second-order sum as a function of tau (products of linear upper bounds of its non-negative factors).
+// exact maximum of the first-order part over the pose vertices; phi() couples the signs in the second-order terms.
 //
 // Why: the combined form (AffineInverseAction with the geometry) expands N = (C J^-1(t, g))^-1 around the pose AND
 // the geometry at once, so its remainder carries the products of pose and geometry deviations through the inverse
@@ -93,13 +94,9 @@ class GeometryIncrement {
   /// The increase of sum_j u_j J_kj(t, g) over its value at g0, e_k^T Delta J u, bounded over the box and every
   /// geometry, for weights u given by w = J0 u (the affine forms of the column N C u of the nominal expansion, all
   /// n rows; |u_j| <= e_j for the bounds of f_k), with ssy and sy that column's bounds of |S S y| (a part of w's
-  /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare(). Where the bound with the
-  /// second-order sum as a constant exceeds `slack` (how much the column's nominal bound may grow before it misses its
-  /// target; +inf without targets) but the bound without it does not, that sum is also bounded as a linear form in
-  /// tau (the products of linear upper bounds of |J0_ki|, A_ii'(tau) and B_i'(tau)), and the smaller maximum is kept
-  /// (its linear part then joins `linear` and `fixed`).
+  /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare().
   /// @return false if a bound is not finite.
-  bool bound(int k, const Form* w, const double* ssy, const double* sy, double slack, Row& out) const;
+  bool bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const;
 
   /// The cheap bound of the same increase for every weights |u_j| <= e_j: |e_k^T Delta J u| <= sum_j e_j DJ_kj (a
   /// constant; no first-order terms). For columns whose box is split whatever their increment (MeanValueEnclosure).
@@ -120,9 +117,6 @@ class GeometryIncrement {
   const SignPattern& signs() const { return signs_; }
 
  private:
-  /// An upper bound of the second-order sum of row k as a form in tau (for the column whose dot products d_e . w are
-  /// dws + the parameter terms' kw, and ab_i >= (A B)_i with its verified fixed point B).
-  Form secondOrderForm(int k, const Form* dws, const double* kw, const double* ab) const;
   /// out[e] >= dbar_e . w for every entry e (w: n forms in the same pose symbols).
   void dots(const Form* w, Form* out) const;
   /// out[e] >= sum_s |kappa_s . w| / 2 over the box for every entry e (the parameter terms of dbar_e . w, every
@@ -132,6 +126,16 @@ class GeometryIncrement {
   /// enters as |dbar_e^T S| sy (the dot products keep their cancellations) where it is smaller than |dbar_e| ssy.
   void columnDots(const Form* w, const double* ssy, const double* sy, Form* out) const;
 
+  /// phi_i(x) >= max over |z| <= x of |sum_i' (delta r_i . J0_{.,i'}) z_i'| over the box and every geometry, for x >=
+  /// 0: the coupling of row i through A with the signs of the z_i' chosen jointly (one geometry of leg i for all i'),
+  /// phi_i(x) = max_eta sum_i' x_i' |sum_{e of row i} eta_e h_e c_ei'| + sum_i' x_i' D_ii' (c_ei' the centre of
+  /// dbar_e . J0_{.,i'}, D_ii' = sum_e h_e times its deviation and parameter terms). Monotone and subadditive in x,
+  /// phi_i(x) <= (A x)_i; equal to (A x)_i where the row has more than kPhiEntries entries.
+  double phi(int i, const double* x) const;
+  /// Tightens a bound z >= 0 with z >= rhs + A z (A's spectral radius below 1, verified) to z = min(z, rhs + phi(z)),
+  /// `rounds` times: each result is again such a bound (see bound()).
+  void tightenFixedPoint(const double* rhs, double* z, int rounds) const;
+  static constexpr int kPhiEntries = 8;
   int n_ = 0, params_ = 0, entries_ = 0;
   std::vector<double> e_;
   double h_[kMaxGeometryParameters];
@@ -148,12 +152,10 @@ class GeometryIncrement {
   /// d_e's parameter terms (kappa, coefficient of gamma'_s in component l; 0 where the model gives none) and half
   /// the sum of their magnitudes (dbar_e's deviation through them).
   double dK_[kMaxDof][kMaxDof][GeometryDerivatives::kCapacity], dDevK_[kMaxDof][GeometryDerivatives::kCapacity];
-  double a_[kMaxDof][kMaxDof];                           ///< A
-  Form dc_[GeometryDerivatives::kCapacity][kMaxDof];     ///< dbar_e . J0_{.,j} (its pose form)
-  double kwc_[GeometryDerivatives::kCapacity][kMaxDof];  ///< the bound of its parameter terms
-  /// A and |J0| as linear upper bounds over the box (built on the first bound() that needs them).
-  mutable Form aF_[kMaxDof][kMaxDof], absJ0_[kMaxDof][kMaxDof];
-  mutable bool formsReady_ = false;
+  double a_[kMaxDof][kMaxDof];  ///< A
+  /// phi(): per row, its entries (rowEntry_), the sign patterns' |sum_e eta_e h_e c_ei'| (phiP_, pattern-major) and D.
+  int rowEntries_[kMaxDof], rowEntry_[kMaxDof][GeometryDerivatives::kCapacity];
+  double phiP_[kMaxDof][(1 << (kPhiEntries - 1)) * kMaxDof], phiD_[kMaxDof][kMaxDof];
   double dj_[kMaxDof][kMaxDof];  ///< DJ >= |Delta J|
   DMat aMat_, aApprox_;          ///< A and ~(I - A)^-1 (for the fixed points)
   SignPattern signs_;
