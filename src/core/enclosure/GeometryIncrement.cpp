@@ -151,10 +151,8 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
     for (int e = 0; e < entries_; ++e) {
       a_[row_[e]][j] += entryH_[e] * up(mag(out[e]) + kw[e]);
       // dbar_e . J0_{.,j} in centre +- deviation (with its parameter terms) over the box and every geometry.
-      double dev = out[e].radius();
-      for (int m = 0; m < kMaxDof; ++m) dev += std::abs(out[e].coefficient(m));
       dotCentre[e][j] = out[e].centre();
-      dotDev[e][j] = up(up(dev) + kw[e]);
+      dotDev[e][j] = up(out[e].deviation() + kw[e]);
     }
   }
   // phi(): per row i and sign pattern eta of its entries (the first one +1: |.| is even), |sum_e eta_e h_e c_ej|
@@ -469,13 +467,13 @@ bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const dou
 
 double GeometryIncrement::phi(int i, const double* x) const {
   const int m = rowEntries_[i];
-  double base = 0.0;
-  for (int j = 0; j < n_; ++j) base += x[j] * phiD_[i][j];
   if (m > kPhiEntries) {
     double s = 0.0;
     for (int j = 0; j < n_; ++j) s += a_[i][j] * x[j];
     return up(s);
   }
+  double base = 0.0;
+  for (int j = 0; j < n_; ++j) base += x[j] * phiD_[i][j];
   const int patterns = m > 0 ? 1 << (m - 1) : 1;
   double best = 0.0;
   for (int eta = 0; eta < patterns; ++eta) {
