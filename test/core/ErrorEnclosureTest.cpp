@@ -279,6 +279,70 @@ TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
   EXPECT_GT(worstRatio, 0.6);
 }
 
+TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
+  // AffineInverseAction's |S S| bound (S(t) = C J^-1(t) - I, the pose part of E): |S(t) S(t)| <= poseSquareMagnitude()
+  // entry by entry at every vertex and at random points of boxes of 1/4 ... 1/32 of every range, with S(t) S(t) in
+  // MPFR. The bound must be reached closely somewhere (0.96 of it is; a bound too small by a factor 0.8 fails), and
+  // it must be below |S| |S| on the whole (the products' cancellations are what it is for).
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const IVec whole = ws.initialBox();
+  std::mt19937_64 rng(83);
+  double worstRatio = 0.0, sumBound = 0.0, sumSquare = 0.0;
+  int checked = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    const double fraction = std::pow(0.5, 2 + trial % 4);
+    IVec box(6);
+    for (int i = 0; i < 6; ++i) {
+      const double w = fraction * (whole[i].upper() - whole[i].lower());
+      const double lo = trial < 8 ? (rng() % 2 ? whole[i].upper() - w : whole[i].lower())
+                                  : std::uniform_real_distribution<double>(whole[i].lower(), whole[i].upper() - w)(rng);
+      box[i] = Interval(lo, lo + w);
+    }
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::AffineInverseAction act;
+    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    const DMat& c = act.preconditioner();
+    const DMat& m2 = act.poseSquareMagnitude();
+    const DMat& magS = act.poseMagnitude();
+    ASSERT_EQ(m2.rows(), 6);
+    ASSERT_EQ(m2.cols(), 6);
+    const DMat ss = magS * magS;
+    for (int k = 0; k < 6; ++k)
+      for (int l = 0; l < 6; ++l) {
+        ASSERT_LE(m2(k, l), ss(k, l) * (1.0 + 1e-12)) << "trial " << trial << " entry " << k << "," << l;
+        sumBound += m2(k, l);
+        sumSquare += ss(k, l);
+      }
+    for (int s = 0; s < 64 + 16; ++s) {
+      const DVec t = vertexOrRandomPoint(box, s, rng);
+      const MpMat jt = mpInverseJacobian(rf.geometry, t);
+      MpMat sm(6, std::vector<Mp>(6, Mp(0.0)));
+      for (int k = 0; k < 6; ++k)
+        for (int l = 0; l < 6; ++l) {
+          Mp x(k == l ? -1.0 : 0.0);
+          for (int m = 0; m < 6; ++m) x = x + Mp(c(k, m)) * jt[m][l];
+          sm[k][l] = x;
+        }
+      for (int k = 0; k < 6; ++k)
+        for (int l = 0; l < 6; ++l) {
+          Mp x(0.0);
+          for (int m = 0; m < 6; ++m) x = x + sm[k][m] * sm[m][l];
+          ASSERT_TRUE(mpLessEqual(mpAbs(x), m2(k, l))) << "trial " << trial << " sample " << s << " entry " << k << ","
+                                                       << l << ": " << toDouble(mpAbs(x)) << " > " << m2(k, l);
+          if (m2(k, l) > 0.0) worstRatio = std::max(worstRatio, toDouble(mpAbs(x)) / m2(k, l));
+          ++checked;
+        }
+    }
+  }
+  std::cout << "[ info     ] |S S|: largest |S(t) S(t)| / bound " << worstRatio << " over " << checked
+            << " checks; sum of the bounds / sum of |S| |S| " << sumBound / sumSquare << "\n";
+  EXPECT_GT(worstRatio, 0.8);
+  EXPECT_LT(sumBound, 0.9 * sumSquare);
+}
+
 TEST(ErrorEnclosure, BoxContainingASingularPoseIsUnbounded) {
   const io::RobotFile rf = test::ref6File();
   const model::GoughPlatform robot(rf.geometry);

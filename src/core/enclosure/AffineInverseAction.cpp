@@ -341,6 +341,34 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   }
   magS = upAll(magS);
   magSP_ = upAll(magSP_);
+  {
+    // magS2_ >= |S(t) S(t)|: with S(t) = E0 + sum_i T_i dt_i (T_i in [dm_i +- dr_i] entry by entry, |dt_i| <= dev_i),
+    //   S S = E0 E0 + sum_i dt_i (E0 T_i + T_i E0) + sum_i dt_i^2 T_i T_i + sum_{i<l} dt_i dt_l (T_i T_l + T_l T_i),
+    // each product in midpoint-radius form (the midpoints' sums of two products are off by less than
+    // kGamma (|first| + |second|)). The products keep the cancellations between the terms of each entry that
+    // |S| |S| loses; that bound is kept where it is smaller.
+    DMat pm, pr, qm, qr;
+    const auto addPair = [&](double weight, DMat& sum) {
+      sum +=
+          upAll(DMat(upAll(DMat((pm + qm).cwiseAbs() + pr + qr)) + kGamma * (pm.cwiseAbs() + qm.cwiseAbs()))) * weight;
+    };
+    product(e0m_, e0r_, e0m_, e0r_, pm, pr);
+    DMat m2 = upAll(DMat(pm.cwiseAbs() + pr));
+    for (int i = 0; i < vars_; ++i) {
+      product(e0m_, e0r_, dm_[i], dr_[i], pm, pr);
+      product(dm_[i], dr_[i], e0m_, e0r_, qm, qr);
+      addPair(devMag_[i], m2);
+      product(dm_[i], dr_[i], dm_[i], dr_[i], pm, pr);
+      m2 += upAll(DMat(pm.cwiseAbs() + pr)) * (devMag_[i] * devMag_[i]);
+      for (int l = i + 1; l < vars_; ++l) {
+        product(dm_[i], dr_[i], dm_[l], dr_[l], pm, pr);
+        product(dm_[l], dr_[l], dm_[i], dr_[i], qm, qr);
+        addPair(devMag_[i] * devMag_[l], m2);
+      }
+      m2 = upAll(m2);  // (sums of at most 2 + 7 kMaxDof non-negative terms: up() covers their roundings)
+    }
+    magS2_ = upAll(m2).cwiseMin(upAll(DMat(mul<DMat>(magS, magS))));
+  }
   for (int p = 0; p < params_; ++p) {
     h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
   }
@@ -747,7 +775,13 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   // E^2 Y = S S Y + S L Y + L S Y + L L Y (S: pose part with E0, L: geometry part):
   //   |S S y| <= |S| min(|S| z, sy);   |S L y| = |S C Lambda| <= |S C| B (the dot products d_e . y keep their
   //   cancellations); |L S y| <= cgh |d_e . (S y)| <= cgh min(dS z, |d_e| sy);   |L L y| <= cgh Gamma.
-  const DMat ssy = upAll(DMat(mul<DMat>(magS_, upAll(DMat(mul<DMat>(magS_, z))).cwiseMin(sy))));
+  // (And through |S S| <= magS2_, whose products keep their cancellations: |S S y| <= magS2_ z, and with
+  // y = v + (y - v), |S S y| <= |S| |S v| + magS2_ |y - v|. Paper, 2 threads: h = 0 2 583 -> 2 319 boxes, +-0.5 mm
+  // 5 007 -> 4 631, +-1 mm 10 127 -> 9 763.)
+  const DMat ssy =
+      upAll(DMat(mul<DMat>(magS_, upAll(DMat(mul<DMat>(magS_, z))).cwiseMin(sy))))
+          .cwiseMin(upAll(DMat(mul<DMat>(magS2_, z))))
+          .cwiseMin(upAll(DMat(upAll(DMat(mul<DMat>(magS_, absSv))) + upAll(DMat(mul<DMat>(magS2_, spread))))));
   const DMat sly = upAll(DMat(mul<DMat>(sc_, b)));
   const DMat lsy = chProduct(out.sigma);
   const DMat ll = chProduct(gamma);

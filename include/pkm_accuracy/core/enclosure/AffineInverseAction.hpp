@@ -125,6 +125,9 @@ class AffineInverseAction {
   double deviation(int i) const { return devMag_[i]; }
   /// >= |S| = |E0| + sum_i |T_i| |t_i - t0_i|, the pose part of E (valid after prepare()).
   const DMat& poseMagnitude() const { return magS_; }
+  /// >= |S(t) S(t)| at every pose t of the box (valid after prepare()): the expansion of (E0 + sum_i T_i dt_i)^2 in
+  /// midpoint-radius products, so that the products keep their cancellations; never above |S| |S|.
+  const DMat& poseSquareMagnitude() const { return magS2_; }
 
   /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
   /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).
@@ -222,6 +225,7 @@ class AffineInverseAction {
   DMat magE_, magS_, magE0_, absC_, q_;   ///< |E| <= |S| + |L|, |S|, |E0|, |C|, ~(I - |E|)^-1
   DMat magSP_;                            ///< sum_i |D_i| |dev_i| >= |P|, the pose part of E - E0
   DMat magE2_;                            ///< >= |E| |E|
+  DMat magS2_;                            ///< >= |S(t) S(t)| over the box (poseSquareMagnitude())
   std::array<DVec, kMaxDof> poseWeight_;  ///< row sums of |D_i| |dev_i| (bisection hints only)
   EntryMat magG_;                         ///< |d_e|
   EntryMat dS_;                           ///< (e, l): >= |d_e^T S|_l, S = E0 + P
