@@ -342,31 +342,31 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   magS = upAll(magS);
   magSP_ = upAll(magSP_);
   {
-    // magS2_ >= |S(t) S(t)|: with S(t) = E0 + sum_i T_i dt_i (T_i in [dm_i +- dr_i] entry by entry, |dt_i| <= dev_i),
-    //   S S = E0 E0 + sum_i dt_i (E0 T_i + T_i E0) + sum_i dt_i^2 T_i T_i + sum_{i<l} dt_i dt_l (T_i T_l + T_l T_i),
-    // each product in midpoint-radius form (the midpoints' sums of two products are off by less than
-    // kGamma (|first| + |second|)). The products keep the cancellations between the terms of each entry that
-    // |S| |S| loses; that bound is kept where it is smaller.
-    DMat pm, pr, qm, qr;
-    const auto addPair = [&](double weight, DMat& sum) {
-      sum +=
-          upAll(DMat(upAll(DMat((pm + qm).cwiseAbs() + pr + qr)) + kGamma * (pm.cwiseAbs() + qm.cwiseAbs()))) * weight;
-    };
-    product(e0m_, e0r_, e0m_, e0r_, pm, pr);
-    DMat m2 = upAll(DMat(pm.cwiseAbs() + pr));
+    // magS2_ >= |S(t) S(t)|. S(t) = E0 + sum_i T_i dt_i (T_i in [dm_i +- dr_i] entry by entry, |dt_i| <= dev_i) is
+    // Sm(t) + X with Sm(t) = e0m + sum_i dm_i dt_i, |X| <= rS = e0r + sum_i dr_i dev_i and |Sm(t)| <= aS = |e0m|
+    // + sum_i |dm_i| dev_i, so |S S| <= |Sm Sm| + aS rS + rS (aS + rS), and
+    //   Sm Sm = e0m e0m + sum_i dt_i (e0m dm_i + dm_i e0m) + sum_i dt_i^2 dm_i dm_i + sum_{i<l} dt_i dt_l (dm_i dm_l
+    //           + dm_l dm_i),
+    // whose products of midpoints keep the cancellations between the terms of each entry that |S| |S| loses. They
+    // are computed in floating point: each is off by less than kGamma times the product of the magnitudes, and the
+    // sums of two by less than that again, so 2 kGamma aS aS covers them all. (The radii's part is the same sum of
+    // terms as the midpoint-radius product of every pair would give, factored.) |S| |S| is kept where smaller.
+    const auto addAbs = [](const DMat& x, double weight, DMat& sum) { sum += x.cwiseAbs() * weight; };
+    DMat m2 = mul<DMat>(e0m_, e0m_).cwiseAbs();
+    DMat aS = e0m_.cwiseAbs(), rS = e0r_;
     for (int i = 0; i < vars_; ++i) {
-      product(e0m_, e0r_, dm_[i], dr_[i], pm, pr);
-      product(dm_[i], dr_[i], e0m_, e0r_, qm, qr);
-      addPair(devMag_[i], m2);
-      product(dm_[i], dr_[i], dm_[i], dr_[i], pm, pr);
-      m2 += upAll(DMat(pm.cwiseAbs() + pr)) * (devMag_[i] * devMag_[i]);
-      for (int l = i + 1; l < vars_; ++l) {
-        product(dm_[i], dr_[i], dm_[l], dr_[l], pm, pr);
-        product(dm_[l], dr_[l], dm_[i], dr_[i], qm, qr);
-        addPair(devMag_[i] * devMag_[l], m2);
-      }
-      m2 = upAll(m2);  // (sums of at most 2 + 7 kMaxDof non-negative terms: up() covers their roundings)
+      aS += dm_[i].cwiseAbs() * devMag_[i];
+      rS += dr_[i] * devMag_[i];
+      addAbs(DMat(mul<DMat>(e0m_, dm_[i]) + mul<DMat>(dm_[i], e0m_)), devMag_[i], m2);
+      addAbs(mul<DMat>(dm_[i], dm_[i]), devMag_[i] * devMag_[i], m2);
+      for (int l = i + 1; l < vars_; ++l)
+        addAbs(DMat(mul<DMat>(dm_[i], dm_[l]) + mul<DMat>(dm_[l], dm_[i])), devMag_[i] * devMag_[l], m2);
     }
+    aS = upAll(aS);
+    rS = upAll(rS);
+    m2 = upAll(
+        DMat(upAll(m2) + upAll(DMat(upAll(DMat(mul<DMat>(aS, rS))) + upAll(DMat(mul<DMat>(rS, DMat(aS + rS))))))));
+    m2 = upAll(DMat(m2 + 2.0 * kGamma * upAll(DMat(mul<DMat>(aS, aS)))));
     magS2_ = upAll(m2).cwiseMin(upAll(DMat(mul<DMat>(magS, magS))));
   }
   for (int p = 0; p < params_; ++p) {

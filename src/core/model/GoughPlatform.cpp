@@ -869,25 +869,28 @@ bool GoughPlatform::hessianMagnitude(const IVec& q, const DMat& c, std::array<DM
     }
   }
   if (!finite) return false;
-  const DMat absC = c.cwiseAbs();
+  // (Fixed-size 6 x 6 matrices: these products unroll and vectorise, the dynamic ones do not.)
+  using M6 = Eigen::Matrix<double, 6, 6>;
+  const M6 c6 = c, absC = c6.cwiseAbs();
   for (int p = 0; p < MatrixHessian::kPairs; ++p) {
-    DMat centre(6, 6), radius(6, 6), quad = DMat::Zero(6, 6), scale = DMat::Zero(6, 6);
+    M6 centre, radius, quad = M6::Zero(), absSum, a;
     for (int row = 0; row < 6; ++row)
       for (int col = 0; col < 6; ++col) {
         const S& f = h[p][row * 6 + col];
         centre(row, col) = f.centre();
         radius(row, col) = quadratic != nullptr ? remainderParts(f, quad(row, col)) : f.radius();
       }
-    DMat mag = (c * centre).cwiseAbs(), slopes = DMat::Zero(6, 6);
-    scale += absC * centre.cwiseAbs();
+    absSum = centre.cwiseAbs();
+    M6 slopes = M6::Zero();
     for (int s2 = 0; s2 < 6; ++s2) {
-      DMat a(6, 6);
       for (int row = 0; row < 6; ++row)
         for (int col = 0; col < 6; ++col) a(row, col) = h[p][row * 6 + col].coefficient(s2);
-      slopes += (c * a).cwiseAbs();
-      scale += absC * a.cwiseAbs();
+      slopes.noalias() += (c6 * a).cwiseAbs();
+      absSum += a.cwiseAbs();
     }
-    mag += absC * radius;
+    // scale = |C| (|Hc| + sum_m |A_m|): the sum of the products' magnitudes (one product, the same sum).
+    const M6 scale = absC * absSum;
+    M6 mag = (c6 * centre).cwiseAbs() + absC * radius;
     // (The rounding margin 1e-13 scale covers every product with C, so it goes to each part.)
     if (linear != nullptr) {
       (*linear)[p] = ((slopes + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
