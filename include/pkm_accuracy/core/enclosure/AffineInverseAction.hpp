@@ -125,8 +125,8 @@ class AffineInverseAction {
   double deviation(int i) const { return devMag_[i]; }
   /// >= |S| = |E0| + sum_i |T_i| |t_i - t0_i|, the pose part of E (valid after prepare()).
   const DMat& poseMagnitude() const { return magS_; }
-  /// >= |S(t) S(t)| at every pose t of the box (valid after prepare()): the expansion of (E0 + sum_i T_i dt_i)^2 in
-  /// midpoint-radius products, so that the products keep their cancellations; never above |S| |S|.
+  /// >= |S(t) S(t)| at every pose t of the box (valid after prepare()): the expansion of (E0 + sum_i T_i dt_i)^2 with
+  /// the midpoints' products, which keep their cancellations, and the radii's part in magnitude; never above |S| |S|.
   const DMat& poseSquareMagnitude() const { return magS2_; }
 
   /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
