@@ -32,6 +32,20 @@ DVec vertexOrRandomPoint(const IVec& box, int s, std::mt19937_64& rng) {
   return q;
 }
 
+/// Box number `trial` of the MPFR tests below: 1/4, 1/8, 1/16 and 1/32 of every range of `whole` (by trial % 4), at
+/// random corners of it for trial < 8, else at random places inside.
+IVec cornerOrInnerBox(const IVec& whole, int trial, std::mt19937_64& rng) {
+  const double fraction = std::pow(0.5, 2 + trial % 4);
+  IVec box(6);
+  for (int i = 0; i < 6; ++i) {
+    const double w = fraction * (whole[i].upper() - whole[i].lower());
+    const double lo = trial < 8 ? (rng() % 2 ? whole[i].upper() - w : whole[i].lower())
+                                : std::uniform_real_distribution<double>(whole[i].lower(), whole[i].upper() - w)(rng);
+    box[i] = Interval(lo, lo + w);
+  }
+  return box;
+}
+
 }  // namespace
 
 TEST(ErrorEnclosure, RegistryKnowsEveryMethodAndRejectsUnknownNames) {
@@ -237,14 +251,7 @@ TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
   int checked = 0;
   for (int trial = 0; trial < 16; ++trial) {
     // Boxes of 1/4, 1/8, 1/16 and 1/32 of every range, at random corners of the workspace or inside it.
-    const double fraction = std::pow(0.5, 2 + trial % 4);
-    IVec box(6);
-    for (int i = 0; i < 6; ++i) {
-      const double w = fraction * (whole[i].upper() - whole[i].lower());
-      const double lo = trial < 8 ? (rng() % 2 ? whole[i].upper() - w : whole[i].lower())
-                                  : std::uniform_real_distribution<double>(whole[i].lower(), whole[i].upper() - w)(rng);
-      box[i] = Interval(lo, lo + w);
-    }
+    const IVec box = cornerOrInnerBox(whole, trial, rng);
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
     enclosure::AffineInverseAction act;
@@ -292,14 +299,7 @@ TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
   double worstRatio = 0.0, sumBound = 0.0, sumSquare = 0.0;
   int checked = 0;
   for (int trial = 0; trial < 16; ++trial) {
-    const double fraction = std::pow(0.5, 2 + trial % 4);
-    IVec box(6);
-    for (int i = 0; i < 6; ++i) {
-      const double w = fraction * (whole[i].upper() - whole[i].lower());
-      const double lo = trial < 8 ? (rng() % 2 ? whole[i].upper() - w : whole[i].lower())
-                                  : std::uniform_real_distribution<double>(whole[i].lower(), whole[i].upper() - w)(rng);
-      box[i] = Interval(lo, lo + w);
-    }
+    const IVec box = cornerOrInnerBox(whole, trial, rng);
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
     enclosure::AffineInverseAction act;
