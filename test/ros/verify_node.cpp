@@ -146,6 +146,31 @@ TEST(VerifyWorkspace, MaxErrorBracketsEveryComponent) {
   }
 }
 
+TEST(VerifyWorkspace, MaxErrorOverThePaperWorkspaceReportsItsSearch) {
+  // The whole paper workspace (+-15 deg) to the default alpha (1%): about 4 000 boxes, well under a second on two
+  // threads; the search statistics are the core's, carried by the bridge (hopeless boxes are split without an
+  // enclosure on this job whatever the thread count: more than 500 of them).
+  auto req = boxRequest(0.15, 0.45, 0.50, k15deg, kNone, "max_error");
+  req.threads = 2;
+  const auto r = verify(req);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_TRUE(r.converged) << r.message;
+  EXPECT_EQ(r.reason, "no_thresholds");
+  EXPECT_GT(r.boxes, 1000u);
+  EXPECT_GT(r.unenclosed_boxes, 0u);
+  EXPECT_LE(r.unenclosed_boxes, r.boxes);
+  ASSERT_EQ(r.lower_bound_poses.size(), 36u);
+  const auto samples = grid(req);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_LE(r.upper_bound[k] - r.lower_bound[k], 0.01 * r.lower_bound[k] * (1.0 + 1e-9)) << k;
+    std::array<double, 6> pose{};
+    for (std::size_t i = 0; i < 6; ++i) pose[i] = r.lower_bound_poses[6 * k + i];
+    EXPECT_TRUE(poseInWorkspace(pose, req)) << k;
+    EXPECT_GE(worstErrorAt(pose)[k], r.lower_bound[k] * (1.0 - 1e-9)) << k;
+    for (const auto& p : samples) ASSERT_LE(worstErrorAt(p)[k], r.upper_bound[k]) << k;
+  }
+}
+
 TEST(VerifyWorkspace, MaxErrorWithThresholdsGivesAVerdict) {
   auto req = smallRequest(kGenerous, "max_error");
   req.alpha = 0.5;
@@ -285,7 +310,9 @@ TEST(VerifyWorkspace, ProgressIsPublishedWhileAJobRuns) {
   EXPECT_EQ(r.verdict, "UNDECIDED");
   EXPECT_EQ(r.reason, "time_budget");
   for (std::size_t k = 0; k < 6; ++k) EXPECT_LE(r.lower_bound[k], r.upper_bound[k]) << k;
-  EXPECT_GT(r.unenclosed_boxes, 0u);  // the first boxes are hopeless: split without an enclosure
+  // (How many boxes were split without an enclosure depends on how far 1 s gets: none in the first ~4 000 boxes of
+  // this job. The count is checked on a deterministic job in MaxErrorOverThePaperWorkspaceReportsItsSearch.)
+  EXPECT_LE(r.unenclosed_boxes, r.boxes);
   ros::WallDuration(0.5).sleep();
   std::lock_guard<std::mutex> lock(m);
   std::vector<Progress> mine;
