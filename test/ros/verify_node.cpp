@@ -40,6 +40,25 @@ std::vector<std::array<double, 6>> grid(const VerifyWorkspace::Request& r) {
   return out;
 }
 
+/// A converged max-error answer: every component's bracket [lower, upper] is finite, at most alpha * lower wide, its
+/// lower bound attained (by the double-precision oracle) at its pose inside the workspace, and no pose of grid() above
+/// its upper bound.
+void expectBracketsHold(const VerifyWorkspace::Request& req, const VerifyWorkspace::Response& r, double alpha) {
+  ASSERT_EQ(r.lower_bound_poses.size(), 36u);
+  const auto samples = grid(req);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_GT(r.lower_bound[k], 0.0) << k;
+    EXPECT_LE(r.lower_bound[k], r.upper_bound[k]) << k;
+    EXPECT_TRUE(std::isfinite(r.upper_bound[k])) << k;
+    EXPECT_LE(r.upper_bound[k] - r.lower_bound[k], alpha * r.lower_bound[k] * (1.0 + 1e-9)) << k;
+    std::array<double, 6> pose{};
+    for (std::size_t i = 0; i < 6; ++i) pose[i] = r.lower_bound_poses[6 * k + i];
+    EXPECT_TRUE(poseInWorkspace(pose, req)) << k;
+    EXPECT_GE(worstErrorAt(pose)[k], r.lower_bound[k] * (1.0 - 1e-9)) << k;
+    for (const auto& p : samples) ASSERT_LE(worstErrorAt(p)[k], r.upper_bound[k]) << k;
+  }
+}
+
 TEST(VerifyWorkspace, SafeWithGenerousThresholds) {
   const auto req = smallRequest(kGenerous);
   const auto r = verify(req);
@@ -129,21 +148,7 @@ TEST(VerifyWorkspace, MaxErrorBracketsEveryComponent) {
   EXPECT_EQ(r.verdict, "UNDECIDED");
   EXPECT_EQ(r.reason, "no_thresholds");
   EXPECT_TRUE(r.converged) << r.message;
-  ASSERT_EQ(r.lower_bound_poses.size(), 36u);
-  const auto samples = grid(req);
-  for (std::size_t k = 0; k < 6; ++k) {
-    EXPECT_GT(r.lower_bound[k], 0.0) << k;
-    EXPECT_LE(r.lower_bound[k], r.upper_bound[k]) << k;
-    EXPECT_TRUE(std::isfinite(r.upper_bound[k])) << k;
-    EXPECT_LE(r.upper_bound[k] - r.lower_bound[k], 0.2 * r.lower_bound[k] * (1.0 + 1e-9)) << k;
-    // The lower bound is attained at its pose, inside the workspace.
-    std::array<double, 6> pose{};
-    for (std::size_t i = 0; i < 6; ++i) pose[i] = r.lower_bound_poses[6 * k + i];
-    EXPECT_TRUE(poseInWorkspace(pose, req)) << k;
-    EXPECT_GE(worstErrorAt(pose)[k], r.lower_bound[k] * (1.0 - 1e-9)) << k;
-    // No sampled pose exceeds the certified upper bound.
-    for (const auto& p : samples) ASSERT_LE(worstErrorAt(p)[k], r.upper_bound[k]) << k;
-  }
+  expectBracketsHold(req, r, 0.2);
 }
 
 TEST(VerifyWorkspace, MaxErrorOverThePaperWorkspaceReportsItsSearch) {
@@ -159,16 +164,7 @@ TEST(VerifyWorkspace, MaxErrorOverThePaperWorkspaceReportsItsSearch) {
   EXPECT_GT(r.boxes, 1000u);
   EXPECT_GT(r.unenclosed_boxes, 0u);
   EXPECT_LE(r.unenclosed_boxes, r.boxes);
-  ASSERT_EQ(r.lower_bound_poses.size(), 36u);
-  const auto samples = grid(req);
-  for (std::size_t k = 0; k < 6; ++k) {
-    EXPECT_LE(r.upper_bound[k] - r.lower_bound[k], 0.01 * r.lower_bound[k] * (1.0 + 1e-9)) << k;
-    std::array<double, 6> pose{};
-    for (std::size_t i = 0; i < 6; ++i) pose[i] = r.lower_bound_poses[6 * k + i];
-    EXPECT_TRUE(poseInWorkspace(pose, req)) << k;
-    EXPECT_GE(worstErrorAt(pose)[k], r.lower_bound[k] * (1.0 - 1e-9)) << k;
-    for (const auto& p : samples) ASSERT_LE(worstErrorAt(p)[k], r.upper_bound[k]) << k;
-  }
+  expectBracketsHold(req, r, 0.01);
 }
 
 TEST(VerifyWorkspace, MaxErrorWithThresholdsGivesAVerdict) {
