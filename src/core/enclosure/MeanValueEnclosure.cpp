@@ -9,6 +9,7 @@
 #include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
 #include "pkm_accuracy/core/enclosure/GeometryIncrement.hpp"
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
+#include "pkm_accuracy/core/interval/Rounding.hpp"
 
 namespace pkm_accuracy {
 namespace enclosure {
@@ -500,7 +501,144 @@ bool MeanValueEnclosure::encloseOnFace(const model::RobotModel& model, const Box
 }
 
 void MeanValueEnclosure::enclose(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) const {
+  // (Thin boxes, e.g. errorAtPose()'s, keep the combined form, whose lower bounds hold for every tool point.)
+  if (secondOrder_ && box.variables > 0 && box.hasGradient && encloseAtToolVertices(model, box, out)) return;
   encloseImpl(model, box, out, false);
+}
+
+bool MeanValueEnclosure::encloseAtToolVertices(const model::RobotModel& model, const BoxInput& box,
+                                               ErrorBounds& out) const {
+  // For a pose X and the other parameters g fixed, J(c) = T(R (c - c')) J(c') (RobotModel::toolPointCoordinate):
+  // the rotation rows do not depend on the tool point c, the translation rows are affine in c. So f_k (k < 3), a sum
+  // of magnitudes of affine functions of c, is convex in c: its maximum over the box of tool points is at a vertex,
+  // and over X, g and c it is the largest of the vertices' bounds. A sign of J_kj certified at every vertex holds
+  // over the whole box of c (affine), the rotation rows' signs and bounds at any one vertex hold for every c.
+  constexpr int n = 6;
+  const int params = model.geometryParameterCount();
+  if (model.dof() != n || params == 0) return false;
+  int open[3], openCount = 0, free[kMaxGeometryParameters], freeCount = 0;
+  bool tool = false;
+  double squares = 0.0;  // bounds sum over the open coordinates of (hi - lo)^2 >= |c - c_v|^2
+  for (int p = 0; p < params; ++p) {
+    if (model.toolPointCoordinate(p) < 0) {
+      free[freeCount++] = p;
+      continue;
+    }
+    tool = true;
+    const Interval r = model.geometryParameterRange(p);
+    if (r.isPoint() || openCount == 3) continue;
+    open[openCount++] = p;
+    const double w = interval::rounding::subUp(r.upper(), r.lower());
+    squares = up(squares + up(w * w));
+  }
+  if (!tool) return false;
+  const double distance = interval::rounding::nextUp(std::sqrt(squares));  // |c - c_v| <= distance for every vertex
+  const int vertices = 1 << openCount;
+  constexpr unsigned kTranslation = 0x7u;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::array<ErrorBounds, 8> at;
+  std::array<bool, 8> done{};
+  for (int v = 0; v < vertices; ++v) {
+    GVec values = GVec::Constant(params, std::numeric_limits<double>::quiet_NaN());
+    for (int p = 0; p < params; ++p)
+      if (model.toolPointCoordinate(p) >= 0) values[p] = model.geometryParameterRange(p).lower();
+    for (int j = 0; j < openCount; ++j)
+      if ((v >> j) & 1) values[open[j]] = model.geometryParameterRange(open[j]).upper();
+    BoxInput in = box;
+    in.rows = v == 0 ? box.rows : (box.rows & kTranslation);
+    if (in.rows == 0) continue;
+    in.faces = GeometryFaces();  // (the faces of one vertex do not hold at the others: none are handed down)
+    encloseImpl(*model.fixGeometryParameters(values), in, at[v], false);
+    done[v] = at[v].upper.size() == n;
+  }
+  if (!done[0]) return false;
+  const int vars = box.variables;
+  out = ErrorBounds();
+  out.upper = DVec::Constant(n, kInf);
+  out.lower = DVec::Zero(n);
+  out.splitScore = at[0].splitScore;
+  out.componentSmear = DMat::Zero(n, vars);
+  out.geometrySmear = GMat::Zero(n, params);
+  out.geometrySensitivity = GMat::Zero(n, params);
+  bool estimates = true, search = false;
+  for (int v = 0; v < vertices; ++v) {
+    estimates = estimates && done[v] && at[v].centreEstimate.size() == n;
+    search = search || (done[v] && at[v].searchUpper.size() == n);
+  }
+  if (estimates) out.centreEstimate = DVec::Constant(n, 0.0);
+  if (search) out.searchUpper = DVec::Constant(n, 0.0);
+  const auto searchOf = [&at](int v, int k) {
+    return at[v].searchUpper.size() == n ? std::min(at[v].searchUpper[k], at[v].upper[k]) : at[v].upper[k];
+  };
+  for (int k = 0; k < n; ++k) {
+    const std::uint64_t rowBits = ((std::uint64_t(1) << n) - 1u) << (k * n);
+    int source = 0;  // the vertex whose bound is kept (its hints go with it)
+    if (k < 3) {
+      std::uint64_t positive = rowBits, negative = rowBits;
+      double upper = -kInf, lower = -kInf;
+      for (int v = 0; v < vertices; ++v) {
+        if (!done[v]) {
+          upper = kInf;
+          positive = negative = 0;
+          continue;
+        }
+        if (at[v].upper[k] > upper) upper = at[v].upper[k], source = v;
+        lower = std::max(lower, at[v].lower[k]);
+        positive &= at[v].signs.positive;
+        negative &= at[v].signs.negative;
+        if (estimates) out.centreEstimate[k] = std::max(out.centreEstimate[k], at[v].centreEstimate[k]);
+        if (search) out.searchUpper[k] = std::max(out.searchUpper[k], searchOf(v, k));
+      }
+      out.upper[k] = upper;
+      out.signs.positive |= positive;
+      out.signs.negative |= negative;
+      // f_k(c) >= f_k(c_v) - |R (c - c_v)| (f_a + f_b), a, b the other two rotation components: the column j term of
+      // row k changes by (omega_j x R (c - c_v))_k, omega_j the rotation rows' column j.
+      const double a = at[0].upper[3 + (k + 1) % 3], b = at[0].upper[3 + (k + 2) % 3];
+      if (std::isfinite(a) && std::isfinite(b) && lower > 0.0) {
+        out.lower[k] = std::max(0.0, interval::rounding::subDown(lower, up(distance * up(a + b))));
+      }
+      // The tool point's sensitivities (units of its half-widths; hints only): half the change between the vertices
+      // at its two ends, each the largest over the other coordinates.
+      for (int j = 0; j < openCount; ++j) {
+        double high = 0.0, low = 0.0;
+        for (int v = 0; v < vertices; ++v) {
+          if (!done[v]) continue;
+          const double value = estimates ? at[v].centreEstimate[k] : at[v].upper[k];
+          double& side = ((v >> j) & 1) ? high : low;
+          side = std::max(side, value);
+        }
+        if (std::isfinite(high - low)) out.geometrySensitivity(k, open[j]) = 0.5 * (high - low);
+      }
+    } else {
+      out.upper[k] = at[0].upper[k];
+      out.lower[k] = at[0].lower[k];
+      out.signs.positive |= at[0].signs.positive & rowBits;
+      out.signs.negative |= at[0].signs.negative & rowBits;
+      if (estimates) out.centreEstimate[k] = at[0].centreEstimate[k];
+      if (search) out.searchUpper[k] = searchOf(0, k);
+    }
+    const ErrorBounds& s = at[source];
+    if (s.componentSmear.rows() == n && s.componentSmear.cols() == vars) {
+      out.componentSmear.row(k) = s.componentSmear.row(k);
+    } else if (s.splitScore.size() == vars) {
+      out.componentSmear.row(k) = s.splitScore.transpose();
+    }
+    if (s.geometrySmear.rows() == n && s.geometrySmear.cols() == freeCount) {
+      for (int q = 0; q < freeCount; ++q) {
+        out.geometrySmear(k, free[q]) = s.geometrySmear(k, q);
+        out.geometrySensitivity(k, free[q]) = s.geometrySensitivity(k, q);
+      }
+    }
+  }
+  if (vars > 0) {
+    DVec score = DVec::Zero(vars);
+    for (int k = 0; k < n; ++k)
+      if (box.wants(k))
+        for (int i = 0; i < vars; ++i) score[i] = std::max(score[i], out.componentSmear(k, i));
+    if (score.maxCoeff() > 0.0) out.splitScore = score;
+  }
+  return true;
 }
 
 void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out,

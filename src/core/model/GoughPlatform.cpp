@@ -390,6 +390,11 @@ std::string GoughPlatform::geometryParameterName(int p) const {
   return os.str();
 }
 
+int GoughPlatform::toolPointCoordinate(int p) const {
+  if (p < 0 || p >= geometryParameterCount() || params_[p].kind != Parameter::Tool) return -1;
+  return params_[p].coord;
+}
+
 Interval GoughPlatform::geometryParameterRange(int p) const {
   if (p < 0 || p >= geometryParameterCount()) return RobotModel::geometryParameterRange(p);
   return slot(params_[p], false);

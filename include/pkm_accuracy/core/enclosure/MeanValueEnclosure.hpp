@@ -24,6 +24,9 @@ namespace enclosure {
 // With uncertain geometry, a component whose monotonicity in some parameters was certified on a containing box
 // (BoxInput::faces) is bounded on that face of the geometry box, with those parameters fixed at their raising ends
 // (docs/uncertainty.md, "Faces").
+// With an uncertain tool point (second_order, boxes of at least one variable), each component is bounded at the
+// vertices of the tool point's box, where the rest of the geometry keeps its uncertainty: the rotation components do
+// not depend on the tool point and the translation components are convex in it (RobotModel::toolPointCoordinate).
 class MeanValueEnclosure final : public ErrorEnclosure {
  public:
   explicit MeanValueEnclosure(bool secondOrder = false) : secondOrder_(secondOrder) {}
@@ -37,6 +40,10 @@ class MeanValueEnclosure final : public ErrorEnclosure {
   /// Component k on the face out.faces gives it: out.upper[k] and its hints if tighter, and the directions and signs
   /// the face certifies added to out.faces. @return true if it certified more directions.
   bool encloseOnFace(const model::RobotModel& model, const BoxInput& box, int k, ErrorBounds& out) const;
+  /// With a tool point among the geometry parameters (model::RobotModel::toolPointCoordinate): the bounds at every
+  /// vertex of the tool point's box, each with a model in which the tool point is exact, combined by convexity
+  /// (docs/uncertainty.md, "The tool point"). @return false if the model has no tool-point parameter (nothing done).
+  bool encloseAtToolVertices(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) const;
   bool secondOrder_;
 };
 

@@ -36,6 +36,7 @@ class GoughPlatform final : public RobotModel {
   std::string geometryParameterName(int p) const override;
   Interval geometryParameterRange(int p) const override;
   double geometryParameterCentre(int p) const override;
+  int toolPointCoordinate(int p) const override;
   IMat inverseJacobianAtGeometryCentre(const IVec& pose) const override;
   void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override;
   /// Also fills the entries' affine forms in the pose (GeometryRowDerivative::affine) for the anchor coordinates.

@@ -58,6 +58,13 @@ class RobotModel {
   virtual Interval geometryParameterRange(int p) const;
   /// The value of parameter p that inverseJacobianAtGeometryCentre() uses (a point of the range, near its middle).
   virtual double geometryParameterCentre(int p) const;
+  /// The coordinate (0: x, 1: y, 2: z, platform frame) of the tool point c that parameter p is, or -1 if p is not
+  /// one. Moving the error reference point only changes the error of the point, not the motion: for two geometries
+  /// g, g' that differ in c alone, J(X, g) = T(R(X) (c - c')) J(X, g') with T(v) = [[I, -[v]x], [0, I]] (6 x 6,
+  /// [v]x the cross-product matrix). So the rotation rows of J do not depend on c, and the translation rows are
+  /// affine in c: each translation component f_k is convex in c, and its maximum over a box of tool points is
+  /// attained at the box's vertices (MeanValueEnclosure bounds it there).
+  virtual int toolPointCoordinate(int /*p*/) const { return -1; }
   /// Enclosure of J^-1 over a pose box with every geometry parameter at its centre value.
   virtual IMat inverseJacobianAtGeometryCentre(const IVec& pose) const { return inverseJacobian(pose); }
   /// inverseJacobian(DualPose) with every geometry parameter at its centre value.
