@@ -304,6 +304,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("skip_hopeless", Node::boolean(o.skip_hopeless));
   d.set("geometry_form", Node::string(o.decompose_geometry ? "decomposed" : "combined"));
   d.set("geometry_parameters", info.geometry_parameters.empty() ? Node() : strings(info.geometry_parameters));
+  d.set("geometry_ranges", geometryRanges(info, info.geometry_ranges));
 
   const bool witness = hasWitness(r);
   d.set("witness", witness ? numbers(witnessPose(r)) : Node());
@@ -592,7 +593,14 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
   os << "verdict:   " << verify::toString(r.verdict);
   if (r.verdict == verify::Verdict::Undecided) os << " (" << verify::toString(r.reason) << ")";
   os << "\nmessage:   " << r.message << "\n";
-  os << "robot:     " << info.robot << " (anchor uncertainty " << num(info.anchor_uncertainty) << " m)\n";
+  os << "robot:     " << info.robot;
+  if (info.uniform_uncertainty) {
+    os << " (anchor uncertainty " << num(info.anchor_uncertainty) << " m)\n";
+  } else {
+    os << " (uncertainty per coordinate: anchors up to " << num(info.anchor_uncertainty) << " m, tool point up to "
+       << num(info.tool_point_uncertainty) << " m; " << info.geometry_parameters.size() << " uncertain coordinate"
+       << (info.geometry_parameters.size() == 1 ? "" : "s") << ")\n";
+  }
   if (info.trajectory.empty()) {
     os << "workspace: " << info.workspace << " (" << info.workspace_region << "): " << boxText(info, info.workspace_box)
        << "\n";

@@ -18,6 +18,33 @@ using yaml::numbers;
 using yaml::range;
 using yaml::vec3;
 
+std::string triple(const Eigen::Vector3d& v) {
+  std::ostringstream os;
+  os << "[" << v[0] << ", " << v[1] << ", " << v[2] << "]";
+  return os.str();
+}
+
+/// Half-widths (m) of the anchors of one kind: a number (every coordinate of the 6 anchors) or 6 triples
+/// [hx, hy, hz], every value finite and >= 0.
+std::vector<Eigen::Vector3d> halfwidths(const YAML::Node& n, const std::string& where) {
+  std::vector<Eigen::Vector3d> out;
+  if (n.IsScalar()) {
+    out.assign(6, Eigen::Vector3d::Constant(number(n, where)));
+  } else if (n.IsSequence() && n.size() == 6) {
+    out = yaml::points3(n, where);
+  } else {
+    fail(where, "expected a half-width >= 0 (m) for every coordinate, or 6 triples [hx, hy, hz] (m), got " +
+                    (n.IsSequence() ? "a list of " + std::to_string(n.size()) + " items" : yaml::show(n)));
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if ((out[i].array() < 0.0).any()) {
+      fail(n.IsScalar() ? where : where + "[" + std::to_string(i) + "]",
+           "expected half-widths >= 0 (m), got " + triple(out[i]));
+    }
+  }
+  return out;
+}
+
 domain::Workspace workspace(const YAML::Node& n, const std::string& where) {
   if (!n || !n.IsMap()) fail(where, "expected a map with keys x, y, z, roll, pitch, yaw");
   static const char* keys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
@@ -74,7 +101,26 @@ RobotFile loadRobotFile(const std::string& path) {
   }
   if (root["tool_point"]) g.tool_point = vec3(root["tool_point"], path + ": tool_point");
   if (root["anchor_uncertainty"]) {
-    g.setUniformAnchorUncertainty(number(root["anchor_uncertainty"], path + ": anchor_uncertainty"));
+    const double h = number(root["anchor_uncertainty"], path + ": anchor_uncertainty");
+    if (!(h >= 0.0))
+      fail(path + ": anchor_uncertainty",
+           "expected a half-width >= 0 (m), got " + yaml::show(root["anchor_uncertainty"]));
+    g.setUniformAnchorUncertainty(h);
+  }
+  // Per-anchor half-widths replace anchor_uncertainty for their kind of anchor.
+  if (root["base_anchor_uncertainty"]) {
+    g.base_anchor_halfwidth = halfwidths(root["base_anchor_uncertainty"], path + ": base_anchor_uncertainty");
+  }
+  if (root["platform_anchor_uncertainty"]) {
+    g.platform_anchor_halfwidth =
+        halfwidths(root["platform_anchor_uncertainty"], path + ": platform_anchor_uncertainty");
+  }
+  if (root["tool_point_uncertainty"]) {
+    const std::string where = path + ": tool_point_uncertainty";
+    g.tool_point_halfwidth = vec3(root["tool_point_uncertainty"], where);
+    if ((g.tool_point_halfwidth.array() < 0.0).any()) {
+      fail(where, "expected half-widths [hx, hy, hz] >= 0 (m), got " + triple(g.tool_point_halfwidth));
+    }
   }
   try {
     g.validate();

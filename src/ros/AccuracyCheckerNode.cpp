@@ -256,6 +256,7 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
     res.tool_point = toPoint(robot_.tool_point);
     for (const auto& h : robot_.base_anchor_halfwidth) res.base_anchor_halfwidth.push_back(toVector3(h));
     for (const auto& h : robot_.platform_anchor_halfwidth) res.platform_anchor_halfwidth.push_back(toVector3(h));
+    res.tool_point_halfwidth = toVector3(robot_.tool_point_halfwidth);
     if (model_) {
       for (int p = 0; p < model_->geometryParameterCount(); ++p) {
         res.geometry_parameters.push_back(model_->geometryParameterName(p));

@@ -88,6 +88,49 @@ bool readPoint(const XmlRpc::XmlRpcValue& v, const std::string& what, Eigen::Vec
   return true;
 }
 
+/// Three half-widths [hx, hy, hz], finite and >= 0 (m).
+bool readHalfwidth(const XmlRpc::XmlRpcValue& v, const std::string& what, Eigen::Vector3d& out, std::string& error) {
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || v.size() != 3) {
+    error = what + ": expected half-widths [hx, hy, hz] of 3 numbers >= 0 (m), got " + describeValue(v);
+    return false;
+  }
+  for (int k = 0; k < 3; ++k) {
+    const std::string name = what + "[" + std::to_string(k) + "]";
+    if (!readFinite(v[k], name, "m", out[k], error)) return false;
+    if (out[k] < 0.0) {
+      error = name + ": expected a half-width >= 0 (m), got " + numStr(out[k]);
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The half-widths of the 6 anchors of one kind: a number (every coordinate) or 6 triples [hx, hy, hz] (m).
+bool readHalfwidths(const XmlRpc::XmlRpcValue& v, const std::string& what, std::vector<Eigen::Vector3d>& out,
+                    std::string& error) {
+  double h = 0.0;
+  std::vector<Eigen::Vector3d> w(kLegs, Eigen::Vector3d::Zero());
+  if (toNumber(v, h)) {
+    if (!readFinite(v, what, "m", h, error)) return false;
+    if (h < 0.0) {
+      error = what + ": expected a half-width >= 0 (m), got " + numStr(h);
+      return false;
+    }
+    w.assign(kLegs, Eigen::Vector3d::Constant(h));
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray && v.size() == kLegs) {
+    for (int i = 0; i < kLegs; ++i) {
+      if (!readHalfwidth(v[i], what + "[" + std::to_string(i) + "]", w[i], error)) return false;
+    }
+  } else {
+    error = what +
+            ": expected a half-width >= 0 (m) for every coordinate, or a list of 6 triples [hx, hy, hz] (m), got " +
+            describeValue(v);
+    return false;
+  }
+  out = w;
+  return true;
+}
+
 bool readPointList(const ros::NodeHandle& nh, const std::string& key, std::vector<Eigen::Vector3d>& out,
                    std::string& error) {
   const std::string name = nh.resolveName(key);
@@ -263,6 +306,20 @@ bool loadSensorParameters(const ros::NodeHandle& nh, model::GoughGeometry& inout
   } catch (const std::exception& e) {
     error = nh.resolveName("anchor_uncertainty") + ": " + e.what();
     return false;
+  }
+  // Per-anchor half-widths replace anchor_uncertainty for their kind of anchor.
+  if (nh.getParam("base_anchor_uncertainty", v) &&
+      !readHalfwidths(v, nh.resolveName("base_anchor_uncertainty"), g.base_anchor_halfwidth, error)) {
+    return false;
+  }
+  if (nh.getParam("platform_anchor_uncertainty", v) &&
+      !readHalfwidths(v, nh.resolveName("platform_anchor_uncertainty"), g.platform_anchor_halfwidth, error)) {
+    return false;
+  }
+  g.tool_point_halfwidth.setZero();
+  if (nh.getParam("tool_point_uncertainty", v)) {
+    const std::string name = nh.resolveName("tool_point_uncertainty");
+    if (!readHalfwidth(v, name, g.tool_point_halfwidth, error)) return false;
   }
   if (!validateGeometry(nh, g, error)) return false;
   inout = g;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -79,7 +80,8 @@ void usage(std::ostream& os) {
         "                         add witness_t (s) and the undecided time intervals\n"
         "  --list-workspaces      print the workspaces of the robot file and exit\n"
         "  --uncertainty H        half-width (m, >= 0) of every anchor coordinate; overrides the file's\n"
-        "                         anchor_uncertainty\n"
+        "                         anchor half-widths (anchor_uncertainty, base_anchor_uncertainty,\n"
+        "                         platform_anchor_uncertainty; its tool_point_uncertainty is kept)\n"
         "Problem:\n"
         "  --mode MODE            verify (default): SAFE / UNSAFE / UNDECIDED against the thresholds;\n"
         "                         max-error: certified bracket [lower, upper] of the maximal error of every component\n"
@@ -365,6 +367,21 @@ domain::Workspace resolveWorkspace(const io::RobotFile& robot, const Arguments& 
                                  workspaceNames(robot) + ") nor a readable workspace file");
 }
 
+/// The run info's summary of the geometry's uncertainty (the largest half-widths, and whether they are uniform).
+void describeUncertainty(const model::GoughGeometry& g, io::RunInfo& info) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (const auto* list : {&g.base_anchor_halfwidth, &g.platform_anchor_halfwidth}) {
+    if (list->empty()) lo = 0.0;
+    for (const Eigen::Vector3d& h : *list) {
+      lo = std::min(lo, h.minCoeff());
+      hi = std::max(hi, h.maxCoeff());
+    }
+  }
+  info.anchor_uncertainty = hi;
+  info.tool_point_uncertainty = g.tool_point_halfwidth.maxCoeff();
+  info.uniform_uncertainty = (lo == hi || hi == 0.0) && info.tool_point_uncertainty == 0.0;
+}
+
 void listWorkspaces(const io::RobotFile& robot, const std::string& path) {
   std::cout << path << ": " << robot.workspaces.size() << " workspace" << (robot.workspaces.size() == 1 ? "" : "s")
             << "\n";
@@ -547,10 +564,9 @@ int run(int argc, char** argv) {
   for (int p = 0; p < model.geometryParameterCount(); ++p) {
     info.geometry_parameters.push_back(model.geometryParameterName(p));
   }
-  info.anchor_uncertainty = a.uncertainty ? *a.uncertainty : 0.0;
-  if (!a.uncertainty && robot.geometry.hasUncertainty() && !robot.geometry.base_anchor_halfwidth.empty()) {
-    info.anchor_uncertainty = robot.geometry.base_anchor_halfwidth.front()[0];
-  }
+  for (int p = 0; p < model.geometryParameterCount(); ++p)
+    info.geometry_ranges.push_back(model.geometryParameterRange(p));
+  describeUncertainty(robot.geometry, info);
 
   verify::VerifierOptions& options = a.options;
   if (a.min_width_text && !a.trajectory.empty()) a.min_width = parseList("--min-width", *a.min_width_text, target);

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -304,6 +305,13 @@ class CliTest : public ::testing::Test {
       std::snprintf(line, sizeof line, "%s: [%.17g, %.17g]\n", keys[i], r[2 * i], r[2 * i + 1]);
       f << line;
     }
+    return path(name);
+  }
+
+  /// The reference robot file with `extra` (top-level keys) appended.
+  std::string writeRobot(const std::string& name, const std::string& extra) const {
+    std::ofstream f(path(name));
+    f << readFile(kRef6) << "\n" << extra;
     return path(name);
   }
 
@@ -848,6 +856,81 @@ TEST_F(CliTest, MaxErrorWithUncertaintyNamesTheWorstGeometry) {
   EXPECT_GT(lower[0], nominal[0]);
 }
 
+// Per-coordinate half-widths and a tool-point box from the robot file (issue #5's input): the base anchors uncertain
+// in x and y only (6 triples), the platform anchors in every coordinate (one number), the tool point in x. The report
+// names the 12 + 18 + 1 parameters with their ranges, and its bracket holds against sampled poses and geometry
+// vertices (dz's maximum rises by ~5% with the tool point's +-2 cm in x).
+TEST_F(CliTest, PerCoordinateAndToolPointHalfWidthsFromTheRobotFile) {
+  const std::string robot = writeRobot("per_coordinate.yaml",
+                                       "base_anchor_uncertainty: [[1e-3, 1e-3, 0], [1e-3, 1e-3, 0], [1e-3, 1e-3, 0], "
+                                       "[1e-3, 1e-3, 0], [1e-3, 1e-3, 0], [1e-3, 1e-3, 0]]\n"
+                                       "platform_anchor_uncertainty: 5e-4\n"
+                                       "tool_point_uncertainty: [0.02, 0, 0]\n");
+  const RunResult r = run({"--robot", robot, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.02",
+                           "--threads", "2", "--json", path("out.json")});
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("uncertainty per coordinate: anchors up to 0.001 m, tool point up to 0.02 m; 31 uncertain"),
+            std::string::npos)
+      << r.out;
+  const Json j = parseJson(readFile(path("out.json")));
+  EXPECT_EQ(j["anchor_uncertainty"].num(), 1e-3);
+  const Json& names = j["geometry_parameters"];
+  ASSERT_EQ(names.size(), 31u);
+  EXPECT_EQ(names[0].str(), "base_anchors[0].x");
+  EXPECT_EQ(names[1].str(), "base_anchors[0].y");
+  EXPECT_EQ(names[2].str(), "base_anchors[1].x");
+  EXPECT_EQ(names[12].str(), "platform_anchors[0].x");
+  EXPECT_EQ(names[30].str(), "tool_point.x");
+  const Json& ranges = j["geometry_ranges"];
+  ASSERT_EQ(ranges.size(), 31u);
+  for (const Json& n : names.array) {
+    const std::vector<double> range = ranges[n.str()].numbers();
+    const double h = n.str().rfind("base", 0) == 0 ? 1e-3 : n.str().rfind("platform", 0) == 0 ? 5e-4 : 0.02;
+    EXPECT_NEAR(0.5 * (range[1] - range[0]), h, 1e-12 * h) << n.str();
+  }
+  // The oracle: every geometry vertex is a map {name: value}; 3^6 poses x 24 random vertices.
+  const auto upper = j["max_error"]["upper"].numbers();
+  const auto lower = j["max_error"]["lower"].numbers();
+  std::vector<double> sampled(6, 0.0);
+  std::mt19937 rng(5);
+  for (int v = 0; v < 24; ++v) {
+    Json vertex;
+    vertex.type = Json::Type::Object;
+    for (const Json& n : names.array) {
+      const std::vector<double> range = ranges[n.str()].numbers();
+      Json x;
+      x.type = Json::Type::Number;
+      x.number = (v == 0 ? n.str() != "tool_point.x" : (rng() & 1u) != 0) ? range[1] : range[0];
+      if (v == 1) x.number = 0.5 * (range[0] + range[1]);  // the nominal geometry
+      vertex.object[n.str()] = x;
+    }
+    const auto m = sampledMax(ref6WithGeometry(vertex), kTiny, 3);
+    for (int k = 0; k < 6; ++k) sampled[k] = std::max(sampled[k], m[k]);
+    if (v == 1) {
+      EXPECT_GT(upper[2], 1.03 * m[2]) << "dz: the tool point's uncertainty is in the bound";
+    }
+  }
+  for (std::size_t k = 0; k < 6; ++k) {
+    SCOPED_TRACE("component " + std::to_string(k));
+    EXPECT_GE(upper[k], sampled[k]);
+    const Json& geometry = j["max_error"]["argmax_geometry"][k];
+    const auto argmax = j["max_error"]["argmax"][k].numbers();
+    DVec pose(6);
+    for (int i = 0; i < 6; ++i) pose[i] = argmax[static_cast<std::size_t>(i)];
+    if (!geometry.isNull()) {
+      EXPECT_GE(ref6WithGeometry(geometry).worstErrorAt(pose)[static_cast<int>(k)], lower[k] * (1.0 - 1e-9));
+    }
+  }
+  EXPECT_GT(sampled[2], 1.03 * sampledMax(ref6Model(), kTiny, 3)[2]);
+  // --uncertainty replaces the anchors' half-widths and keeps the tool point's.
+  const Json u = runJson({"--robot", robot, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.05",
+                          "--uncertainty", "1e-4", "--threads", "2"},
+                         0);
+  ASSERT_EQ(u["geometry_parameters"].size(), 37u);
+  EXPECT_EQ(u["geometry_parameters"][36].str(), "tool_point.x");
+  EXPECT_EQ(u["anchor_uncertainty"].num(), 1e-4);
+}
+
 TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
   const std::string inverted =
       writeWorkspace("inverted.yaml", {0.01, -0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -0.01, 0.01});
@@ -908,6 +991,26 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", t6, "--json", path("no_such_dir/out.json")}, {"--json", "no_such_dir"}},
       {{"--robot", path("coincident.yaml"), "--thresholds", t6}, {"--robot", "platform_anchors"}},
       {{"--robot", kRef6, "--thresholds", t6, "--json", "-", "--yaml", "-"}, {"--yaml"}},
+      {{"--robot",
+        writeRobot("five.yaml",
+                   "base_anchor_uncertainty: [[0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], "
+                   "[0, 0, 0]]\n"),
+        "--thresholds", t6},
+       {"--robot", "base_anchor_uncertainty", "6 triples", "a list of 5 items"}},
+      {{"--robot", writeRobot("negative.yaml", "platform_anchor_uncertainty: -1e-3\n"), "--thresholds", t6},
+       {"--robot", "platform_anchor_uncertainty", ">= 0", "-0.001"}},
+      {{"--robot", writeRobot("negative2.yaml", "anchor_uncertainty: -1e-3\n"), "--thresholds", t6},
+       {"--robot", "anchor_uncertainty", ">= 0"}},
+      {{"--robot",
+        writeRobot("negative3.yaml",
+                   "base_anchor_uncertainty: [[0, 0, 0], [0, 0, 0], [0, -1e-3, 0], [0, 0, 0], "
+                   "[0, 0, 0], [0, 0, 0]]\n"),
+        "--thresholds", t6},
+       {"--robot", "base_anchor_uncertainty[2]", ">= 0", "-0.001"}},
+      {{"--robot", writeRobot("tool.yaml", "tool_point_uncertainty: [0, 1e-3]\n"), "--thresholds", t6},
+       {"--robot", "tool_point_uncertainty", "3 numbers"}},
+      {{"--robot", writeRobot("tool2.yaml", "tool_point_uncertainty: [0, -1e-3, 0]\n"), "--thresholds", t6},
+       {"--robot", "tool_point_uncertainty", ">= 0"}},
   };
   for (const Case& c : cases) {
     std::string line;

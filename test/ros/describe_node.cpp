@@ -78,6 +78,9 @@ TEST(Describe, ReturnsExactlyTheReferenceRobot) {
   EXPECT_EQ(r.tool_point.z, ref.tool_point.z());
   EXPECT_TRUE(r.base_anchor_halfwidth.empty());
   EXPECT_TRUE(r.platform_anchor_halfwidth.empty());
+  EXPECT_EQ(r.tool_point_halfwidth.x, 0.0);
+  EXPECT_EQ(r.tool_point_halfwidth.y, 0.0);
+  EXPECT_EQ(r.tool_point_halfwidth.z, 0.0);
   EXPECT_TRUE(r.geometry_parameters.empty());  // no anchor uncertainty (uncertainty.test has some)
 }
 

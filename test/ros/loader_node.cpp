@@ -101,6 +101,65 @@ TEST(Loader, ScalarSensorErrorIntegersAndOptionalParameters) {
   EXPECT_EQ(f.base_frame, "world");
 }
 
+TEST(Loader, PerCoordinateAndToolPointHalfWidths) {
+  ros::NodeHandle nh = refRobotIn("per_coordinate");
+  nh.setParam("anchor_uncertainty", 0.001);  // replaced for the base anchors by the list below
+  nh.setParam("base_anchor_uncertainty", points({{0.001, 0.002, 0.0},
+                                                 {0.001, 0.002, 0.0},
+                                                 {0.001, 0.002, 0.0},
+                                                 {0.001, 0.002, 0.0},
+                                                 {0.001, 0.002, 0.0},
+                                                 {0.0, 0.0, 0.0}}));
+  nh.setParam("tool_point_uncertainty", list({0.0, 0.0, 0.0005}));
+  GoughGeometry g;
+  std::string error;
+  ASSERT_TRUE(loadGoughGeometry(nh, g, error)) << error;
+  ASSERT_EQ(g.base_anchor_halfwidth.size(), 6u);
+  EXPECT_EQ(g.base_anchor_halfwidth[0], Eigen::Vector3d(0.001, 0.002, 0.0));
+  EXPECT_EQ(g.base_anchor_halfwidth[5], Eigen::Vector3d::Zero());
+  ASSERT_EQ(g.platform_anchor_halfwidth.size(), 6u);
+  EXPECT_EQ(g.platform_anchor_halfwidth[3], Eigen::Vector3d::Constant(0.001));
+  EXPECT_EQ(g.tool_point_halfwidth, Eigen::Vector3d(0.0, 0.0, 0.0005));
+  // One number for every coordinate of one kind of anchor, without anchor_uncertainty.
+  ros::NodeHandle nh2 = refRobotIn("platform_only");
+  nh2.setParam("platform_anchor_uncertainty", 0.0002);
+  ASSERT_TRUE(loadGoughGeometry(nh2, g, error)) << error;
+  EXPECT_TRUE(g.base_anchor_halfwidth.empty());
+  ASSERT_EQ(g.platform_anchor_halfwidth.size(), 6u);
+  EXPECT_EQ(g.platform_anchor_halfwidth[1], Eigen::Vector3d::Constant(0.0002));
+  EXPECT_EQ(g.tool_point_halfwidth, Eigen::Vector3d::Zero());
+}
+
+TEST(Loader, BadHalfWidthsAreRejectedNamingTheParameter) {
+  {
+    ros::NodeHandle nh = refRobotIn("five_halfwidths");
+    nh.setParam("base_anchor_uncertainty", points({{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}}));
+    expectFailure(nh, {"/loader_test/five_halfwidths/base_anchor_uncertainty", "6 triples", "got a list of 5 items"});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("negative_halfwidth");
+    XmlRpc::XmlRpcValue v = points(std::vector<Eigen::Vector3d>(6, Eigen::Vector3d::Zero()));
+    v[2][1] = -0.001;
+    nh.setParam("platform_anchor_uncertainty", v);
+    expectFailure(nh, {"platform_anchor_uncertainty[2][1]", ">= 0", "-0.001"});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("negative_scalar_halfwidth");
+    nh.setParam("base_anchor_uncertainty", -0.001);
+    expectFailure(nh, {"base_anchor_uncertainty", ">= 0", "-0.001"});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("short_tool_halfwidth");
+    nh.setParam("tool_point_uncertainty", list({0.001, 0.001}));
+    expectFailure(nh, {"tool_point_uncertainty", "[hx, hy, hz]", "got a list of 2 items"});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("string_tool_halfwidth");
+    nh.setParam("tool_point_uncertainty", std::string("small"));
+    expectFailure(nh, {"tool_point_uncertainty", "the string \"small\""});
+  }
+}
+
 TEST(Loader, FiveBaseAnchorsAreRejectedNamingTheParameter) {
   ros::NodeHandle nh = refRobotIn("five_anchors");
   auto five = pkm_accuracy_test::loadRef6().base_anchors;

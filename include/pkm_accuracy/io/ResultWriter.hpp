@@ -9,11 +9,13 @@
 //   tool, exit_code, verdict ("SAFE" | "UNSAFE" | "UNDECIDED"), reason ("none", "precision_limit", ...), message,
 //   mode ("verify" | "max-error"), robot, workspace, workspace_region, workspace_box ([[lo, hi] x variables]),
 //   variables (names), components (["dx", "dy", "dz", "rx", "ry", "rz"]), units (["m", "m", "m", "rad", ...]),
-//   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty, max_boxes, time_limit,
+//   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty (the largest
+//   half-width of an anchor coordinate, m), max_boxes, time_limit,
 //   min_width, geometry_splitting ("auto" | "never" | "always"), stall_levels (0 = half the box variables, >= 2), faces
 //   (bool), skip_hopeless (bool), geometry_form ("combined" | "decomposed"), geometry_parameters (names of the
 //   uncertain geometry parameters, e.g. "platform_anchors[3].z", in the order of the model's parameters; null without
-//   geometric uncertainty), witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the
+//   geometric uncertainty), geometry_ranges ({parameter name: [lo, hi]}, the admissible values; null without),
+//   witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the
 //   domain's variables), witness_component (index), witness_component_name, witness_lower_bound, witness_error_lower
 //   ([6] or null), sensitive_count (uncertainty-sensitive poses found: some admissible geometry exceeds a threshold
 //   there, none was shown to exceed for every geometry), sensitive (the first ones, at most max_listed_boxes: [{point
@@ -58,10 +60,15 @@ struct RunInfo {
   std::vector<std::string> variables;  ///< names of the domain's variables
   std::vector<std::string> components = {"dx", "dy", "dz", "rx", "ry", "rz"};  ///< error components
   std::vector<std::string> units = {"m", "m", "m", "rad", "rad", "rad"};       ///< unit of each component
-  double anchor_uncertainty = 0.0;  ///< m (half-width of every anchor coordinate)
+  double anchor_uncertainty = 0.0;      ///< m: the largest half-width of an anchor coordinate
+  double tool_point_uncertainty = 0.0;  ///< m: the largest half-width of a tool point coordinate
+  /// True when every anchor coordinate has the half-width anchor_uncertainty and the tool point is exact.
+  bool uniform_uncertainty = true;
   /// Names of the model's uncertain geometry parameters (model::RobotModel::geometryParameterName), in the order of
   /// every geometry vector of the result; empty without geometric uncertainty.
   std::vector<std::string> geometry_parameters;
+  /// The admissible range of every geometry parameter (model::RobotModel::geometryParameterRange), same order.
+  std::vector<Interval> geometry_ranges;
   int exit_code = -1;                  ///< the process exit code, if known (-1: not written)
   std::size_t max_listed_boxes = 100;  ///< undecided boxes listed in the reports
   // Trajectories and motion varieties (pkm_verify --trajectory).

@@ -42,6 +42,10 @@ constexpr const char* kDefaultPlatformFrame = "platform";
 /// tool_point: [0.0, 0.0, 0.0] # optional (default 0): error reference point c in the platform frame (m)
 /// anchor_uncertainty: 0.0005  # optional (default 0): every coordinate of every A_i and b_i is only known to
 ///                             # +- this half-width (m)
+/// base_anchor_uncertainty:    # optional: per-coordinate half-widths of the A_i (m), 6 triples [hx, hy, hz] or one
+///   - [0.001, 0.001, 0.0]     # number for every coordinate; replaces anchor_uncertainty for the base anchors
+///   - ...                     # (platform_anchor_uncertainty: the same for the b_i)
+/// tool_point_uncertainty: [0.0, 0.0, 0.0005]  # optional (default 0): half-widths of the tool point (m)
 /// base_frame: base_link       # optional (default "base_link"): read by loadRobotFrames(), not by this function
 /// @endcode
 ///
@@ -55,8 +59,9 @@ constexpr const char* kDefaultPlatformFrame = "platform";
 /// @return true on success
 bool loadGoughGeometry(const ros::NodeHandle& nh, model::GoughGeometry& out, std::string& error);
 
-/// Reads the parameters of a robot that are not geometry: `sensor_error` (required), `tool_point` (optional) and
-/// `anchor_uncertainty` (optional), same format as above, into `inout` (whose anchors must already be set, e.g. by
+/// Reads the parameters of a robot that are not geometry: `sensor_error` (required), `tool_point` and the
+/// uncertainty (`anchor_uncertainty`, `base_anchor_uncertainty`, `platform_anchor_uncertainty`,
+/// `tool_point_uncertainty`; optional), same format as above, into `inout` (whose anchors must already be set, e.g. by
 /// loadGoughGeometryFromUrdf()), then validates the whole geometry. Used for URDF robots.
 bool loadSensorParameters(const ros::NodeHandle& nh, model::GoughGeometry& inout, std::string& error);
 
