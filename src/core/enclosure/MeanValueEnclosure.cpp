@@ -519,6 +519,8 @@ bool MeanValueEnclosure::encloseAtToolVertices(const model::RobotModel& model, c
   int open[3], openCount = 0, free[kMaxGeometryParameters], freeCount = 0;
   bool tool = false;
   double squares = 0.0;  // bounds sum over the open coordinates of (hi - lo)^2 >= |c - c_v|^2
+  // The vertex with every tool coordinate at its lower end (NaN: the other parameters stay parameters).
+  GVec lowest = GVec::Constant(params, std::numeric_limits<double>::quiet_NaN());
   for (int p = 0; p < params; ++p) {
     if (model.toolPointCoordinate(p) < 0) {
       free[freeCount++] = p;
@@ -526,6 +528,7 @@ bool MeanValueEnclosure::encloseAtToolVertices(const model::RobotModel& model, c
     }
     tool = true;
     const Interval r = model.geometryParameterRange(p);
+    lowest[p] = r.lower();
     if (r.isPoint() || openCount == 3) continue;
     open[openCount++] = p;
     const double w = interval::rounding::subUp(r.upper(), r.lower());
@@ -539,9 +542,7 @@ bool MeanValueEnclosure::encloseAtToolVertices(const model::RobotModel& model, c
   std::array<ErrorBounds, 8> at;
   std::array<bool, 8> done{};
   for (int v = 0; v < vertices; ++v) {
-    GVec values = GVec::Constant(params, std::numeric_limits<double>::quiet_NaN());
-    for (int p = 0; p < params; ++p)
-      if (model.toolPointCoordinate(p) >= 0) values[p] = model.geometryParameterRange(p).lower();
+    GVec values = lowest;
     for (int j = 0; j < openCount; ++j)
       if ((v >> j) & 1) values[open[j]] = model.geometryParameterRange(open[j]).upper();
     BoxInput in = box;
