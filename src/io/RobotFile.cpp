@@ -3,6 +3,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "YamlReading.hpp"
@@ -45,43 +47,55 @@ std::vector<Eigen::Vector3d> halfwidths(const YAML::Node& n, const std::string& 
   return out;
 }
 
+/// The name of key `key` of the map named `where`: "file.yaml: key" at the top of a file (`where` ending in ':'),
+/// "file.yaml: workspaces.paper.key" inside.
+std::string child(const std::string& where, const std::string& key) {
+  return !where.empty() && where.back() == ':' ? where + " " + key : where + "." + key;
+}
+
 domain::Workspace workspace(const YAML::Node& n, const std::string& where) {
   if (!n || !n.IsMap()) fail(where, "expected a map with keys x, y, z, roll, pitch, yaw");
+  yaml::checkKeys(n, where, {"x", "y", "z", "roll", "pitch", "yaw", "region"});
   static const char* keys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
   std::array<Interval, 6> r;
-  for (int i = 0; i < 6; ++i) r[i] = range(n[keys[i]], where + "." + keys[i]);
+  for (int i = 0; i < 6; ++i) r[i] = range(n[keys[i]], child(where, keys[i]));
   const std::array<Interval, 3> orientation = {r[3], r[4], r[5]};
   const YAML::Node reg = n["region"];
+  const std::string rw = child(where, "region");
   if (!reg) return domain::Workspace::fromRanges(r);
-  if (!reg.IsMap() || !reg["type"]) fail(where + ".region", "expected a map with a 'type' key");
+  if (!reg.IsMap() || !reg["type"]) fail(rw, "expected a map with a 'type' key");
   const std::string type = reg["type"].as<std::string>();
+  const std::map<std::string, std::set<std::string>> regionKeys = {{"box", {"type"}},
+                                                                   {"cylinder", {"type", "centre", "radius", "z"}},
+                                                                   {"sphere", {"type", "centre", "radius"}},
+                                                                   {"polyhedron", {"type", "normals", "offsets"}}};
+  if (regionKeys.count(type)) yaml::checkKeys(reg, rw, regionKeys.at(type));
   const Eigen::Vector3d lo(r[0].lower(), r[1].lower(), r[2].lower()), hi(r[0].upper(), r[1].upper(), r[2].upper());
   try {
     if (type == "box") return domain::Workspace(domain::PositionRegion::box(lo, hi), orientation);
     if (type == "cylinder") {
-      const auto c = numbers(reg["centre"], where + ".region.centre", 2);
-      const Interval z = reg["z"] ? range(reg["z"], where + ".region.z") : r[2];
-      return domain::Workspace(domain::PositionRegion::cylinder(
-                                   c[0], c[1], number(reg["radius"], where + ".region.radius"), z.lower(), z.upper()),
-                               orientation);
+      const auto c = numbers(reg["centre"], rw + ".centre", 2);
+      const Interval z = reg["z"] ? range(reg["z"], rw + ".z") : r[2];
+      return domain::Workspace(
+          domain::PositionRegion::cylinder(c[0], c[1], number(reg["radius"], rw + ".radius"), z.lower(), z.upper()),
+          orientation);
     }
     if (type == "sphere") {
-      return domain::Workspace(domain::PositionRegion::sphere(vec3(reg["centre"], where + ".region.centre"),
-                                                              number(reg["radius"], where + ".region.radius")),
-                               orientation);
+      return domain::Workspace(
+          domain::PositionRegion::sphere(vec3(reg["centre"], rw + ".centre"), number(reg["radius"], rw + ".radius")),
+          orientation);
     }
     if (type == "polyhedron") {
-      return domain::Workspace(
-          domain::PositionRegion::polyhedron(yaml::points3(reg["normals"], where + ".region.normals"),
-                                             numbers(reg["offsets"], where + ".region.offsets"), lo, hi),
-          orientation);
+      return domain::Workspace(domain::PositionRegion::polyhedron(yaml::points3(reg["normals"], rw + ".normals"),
+                                                                  numbers(reg["offsets"], rw + ".offsets"), lo, hi),
+                               orientation);
     }
   } catch (const ParseError&) {
     throw;
   } catch (const InvalidArgument& e) {
-    fail(where + ".region", e.what());
+    fail(rw, e.what());
   }
-  fail(where + ".region.type", "expected box, cylinder, sphere or polyhedron, got '" + type + "'");
+  fail(rw + ".type", "expected box, cylinder, sphere or polyhedron, got '" + type + "'");
 }
 
 }  // namespace
@@ -142,7 +156,7 @@ RobotFile loadRobotFile(const std::string& path) {
 
 domain::Workspace parseWorkspaceFile(const std::string& path) {
   const YAML::Node root = yaml::loadFile(path);
-  return workspace(root, path);
+  return workspace(root, path + ":");
 }
 
 }  // namespace io

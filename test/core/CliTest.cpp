@@ -944,6 +944,11 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
     f << badRobot;
   }
   const std::string t6 = "1e-4,1e-4,1e-4,1e-3,1e-3,1e-3";
+  // Misspelt keys of a workspace file are errors, not silently a box workspace.
+  const std::string tinyText = readFile(tiny_);
+  const std::string typo = path("typo.yaml"), typo2 = path("typo2.yaml");
+  std::ofstream(typo) << tinyText << "regoin: {type: sphere, centre: [0, 0, 0.475], radius: 0.01}\n";
+  std::ofstream(typo2) << tinyText << "region: {type: cylinder, centre: [0, 0], radiu: 0.01}\n";
   struct Case {
     std::vector<std::string> args;
     std::vector<std::string> mentions;
@@ -1007,6 +1012,10 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
                    "[0, 0, 0], [0, 0, 0]]\n"),
         "--thresholds", t6},
        {"--robot", "base_anchor_uncertainty[2]", ">= 0", "-0.001"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--workspace", typo},
+       {"--workspace", "typo.yaml: regoin", "unknown key"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--workspace", typo2},
+       {"--workspace", "typo2.yaml: region.radiu", "unknown key", "centre, radius, type, z"}},
       {{"--robot", writeRobot("tool.yaml", "tool_point_uncertainty: [0, 1e-3]\n"), "--thresholds", t6},
        {"--robot", "tool_point_uncertainty", "3 numbers"}},
       {{"--robot", writeRobot("tool2.yaml", "tool_point_uncertainty: [0, -1e-3, 0]\n"), "--thresholds", t6},
