@@ -144,6 +144,18 @@ RobotFile loadRobotFile(const std::string& path) {
   if (root["anchor_uncertainty_cases"]) {
     out.anchor_uncertainty_cases = numbers(root["anchor_uncertainty_cases"], path + ": anchor_uncertainty_cases");
   }
+  static const std::set<std::string> kKnown = {
+      // this file's keys
+      "base_anchors", "platform_anchors", "sensor_error", "tool_point", "anchor_uncertainty", "base_anchor_uncertainty",
+      "platform_anchor_uncertainty", "tool_point_uncertainty", "anchor_uncertainty_cases", "workspaces",
+      // the node's other parameters (the same file loads as its parameters)
+      "robot_source", "base_frame", "platform_frame", "base_anchor_pattern", "platform_anchor_pattern",
+      "anchor_first_index", "publish_anchor_frames", "default_time_budget", "default_alpha", "default_min_width",
+      "default_method", "max_parallel_jobs", "progress_rate", "tf_timeout", "max_box_markers"};
+  for (const auto& kv : root) {
+    const std::string key = kv.first.Scalar();
+    if (!kKnown.count(key)) out.unknown_keys.push_back(key);
+  }
   if (const YAML::Node ws = root["workspaces"]) {
     if (!ws.IsMap()) throw ParseError(path + ": workspaces: expected a map of named workspaces");
     for (const auto& kv : ws) {

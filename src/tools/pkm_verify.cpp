@@ -523,6 +523,9 @@ int run(int argc, char** argv) {
       badArgument("--robot", a.robot + ": cannot read: " + e.what());
     }
   }();
+  for (const std::string& key : robot.unknown_keys) {
+    std::cerr << "pkm_verify: warning: --robot: " << a.robot << ": key '" << key << "' is not used (unknown key)\n";
+  }
   if (a.list_workspaces) {
     listWorkspaces(robot, a.robot);
     return 0;

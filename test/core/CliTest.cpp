@@ -931,6 +931,21 @@ TEST_F(CliTest, PerCoordinateAndToolPointHalfWidthsFromTheRobotFile) {
   EXPECT_EQ(u["anchor_uncertainty"].num(), 1e-4);
 }
 
+// A robot file key nobody reads (here a misspelt tool_point_uncertainty) is reported on stderr, and the run goes on
+// without it; the node's own parameters in the same file are not reported.
+TEST_F(CliTest, UnknownRobotFileKeysAreReported) {
+  const std::string robot =
+      writeRobot("misspelt.yaml", "tool_point_uncertanty: [0, 0, 0.001]\nbase_frame: world\nprogress_rate: 1\n");
+  const RunResult r = run({"--robot", robot, "--workspace", tiny_, "--thresholds", "1,1,1,1,1,1", "--threads", "1"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: --robot: " + robot + ": key 'tool_point_uncertanty' is not used"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.out.find("(anchor uncertainty 0 m)"), std::string::npos) << r.out;
+  const RunResult plain = run({"--robot", kRef6, "--workspace", tiny_, "--thresholds", "1,1,1,1,1,1"});
+  EXPECT_TRUE(plain.err.empty()) << plain.err;
+}
+
 TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
   const std::string inverted =
       writeWorkspace("inverted.yaml", {0.01, -0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -0.01, 0.01});

@@ -36,6 +36,9 @@ struct RobotFile {
   model::GoughGeometry geometry;                        ///< validated
   std::map<std::string, domain::Workspace> workspaces;  ///< named workspaces of the file
   std::vector<double> anchor_uncertainty_cases;         ///< optional list (m)
+  /// Top-level keys that neither the robot file nor the node's parameters (README) use, e.g. a misspelt
+  /// "tool_point_uncertanty": not errors (a file may carry other tools' keys), but worth a warning.
+  std::vector<std::string> unknown_keys;
 };
 
 /// @throws ParseError (file missing, YAML syntax, wrong structure: the message names the file and key) or
