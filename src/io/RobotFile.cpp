@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -20,31 +21,68 @@ using yaml::numbers;
 using yaml::range;
 using yaml::vec3;
 
-std::string triple(const Eigen::Vector3d& v) {
-  std::ostringstream os;
-  os << "[" << v[0] << ", " << v[1] << ", " << v[2] << "]";
-  return os.str();
+using Bounds3 = std::array<model::CoordinateBound, 3>;
+
+/// One coordinate's bound: a half-width h >= 0 (m) or offsets [lo, hi] (m) with lo <= hi.
+model::CoordinateBound coordinateBound(const YAML::Node& n, const std::string& where) {
+  if (n && n.IsSequence()) {
+    const auto v = numbers(n, where, 2, " [lo, hi] (offsets, m)");
+    if (!(v[0] <= v[1])) {
+      std::ostringstream os;
+      os << "expected offsets [lo, hi] with lo <= hi (m), got [" << v[0] << ", " << v[1] << "]";
+      fail(where, os.str());
+    }
+    return model::CoordinateBound::offsets(v[0], v[1]);
+  }
+  if (!n || !n.IsScalar()) fail(where, "expected a half-width >= 0 (m) or offsets [lo, hi] (m), got " + yaml::show(n));
+  const double h = number(n, where);
+  if (!(h >= 0.0)) {
+    std::ostringstream os;
+    os << "expected a half-width >= 0 (m), got " << h;
+    fail(where, os.str());
+  }
+  return model::CoordinateBound::halfwidth(h);
 }
 
-/// Half-widths (m) of the anchors of one kind: a number (every coordinate of the 6 anchors) or 6 triples
-/// [hx, hy, hz], every value finite and >= 0.
-std::vector<Eigen::Vector3d> halfwidths(const YAML::Node& n, const std::string& where) {
-  std::vector<Eigen::Vector3d> out;
-  if (n.IsScalar()) {
-    out.assign(6, Eigen::Vector3d::Constant(number(n, where)));
-  } else if (n.IsSequence() && n.size() == 6) {
-    out = yaml::points3(n, where);
-  } else {
-    fail(where, "expected a half-width >= 0 (m) for every coordinate, or 6 triples [hx, hy, hz] (m), got " +
-                    (n.IsSequence() ? "a list of " + std::to_string(n.size()) + " items" : yaml::show(n)));
+/// The bounds of a point's 3 coordinates: [bx, by, bz], each a half-width or offsets [lo, hi].
+Bounds3 pointBounds(const YAML::Node& n, const std::string& where) {
+  if (!n || !n.IsSequence() || n.size() != 3) {
+    fail(where, "expected [bx, by, bz], each a half-width >= 0 (m) or offsets [lo, hi] (m), got " +
+                    (n && n.IsSequence() ? "a list of " + std::to_string(n.size()) + " items" : yaml::show(n)));
   }
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    if ((out[i].array() < 0.0).any()) {
-      fail(n.IsScalar() ? where : where + "[" + std::to_string(i) + "]",
-           "expected half-widths >= 0 (m), got " + triple(out[i]));
+  Bounds3 out;
+  for (int k = 0; k < 3; ++k) out[k] = coordinateBound(n[k], where + "[" + std::to_string(k) + "]");
+  return out;
+}
+
+/// The bounds of the anchors of one kind: a half-width (every coordinate of the 6 anchors) or 6 triples, each
+/// coordinate a half-width or offsets [lo, hi].
+std::vector<Bounds3> anchorBounds(const YAML::Node& n, const std::string& where) {
+  if (n.IsScalar()) {
+    const model::CoordinateBound b = coordinateBound(n, where);
+    return std::vector<Bounds3>(6, Bounds3{b, b, b});
+  }
+  if (!n.IsSequence() || n.size() != 6) {
+    fail(where,
+         "expected a half-width >= 0 (m) for every coordinate, or 6 triples [bx, by, bz] (each a half-width "
+         "or offsets [lo, hi], m), got " +
+             (n.IsSequence() ? "a list of " + std::to_string(n.size()) + " items" : yaml::show(n)));
+  }
+  std::vector<Bounds3> out;
+  for (std::size_t i = 0; i < 6; ++i) out.push_back(pointBounds(n[i], where + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+/// Applies the bounds to a point and its half-widths (an asymmetric range moves the coordinate to its centre).
+void applyBounds(const Bounds3& b, Eigen::Vector3d& point, Eigen::Vector3d& halfwidth, const std::string& where) {
+  static const char* kAxis[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    try {
+      model::applyCoordinateBound(b[k], point[k], halfwidth[k]);
+    } catch (const InvalidGeometry& e) {
+      fail(where + "[" + std::to_string(k) + "] (" + kAxis[k] + ")", e.what());
     }
   }
-  return out;
 }
 
 /// The name of key `key` of the map named `where`: "file.yaml: key" at the top of a file (`where` ending in ':'),
@@ -121,20 +159,21 @@ RobotFile loadRobotFile(const std::string& path) {
            "expected a half-width >= 0 (m), got " + yaml::show(root["anchor_uncertainty"]));
     g.setUniformAnchorUncertainty(h);
   }
-  // Per-anchor half-widths replace anchor_uncertainty for their kind of anchor.
-  if (root["base_anchor_uncertainty"]) {
-    g.base_anchor_halfwidth = halfwidths(root["base_anchor_uncertainty"], path + ": base_anchor_uncertainty");
-  }
-  if (root["platform_anchor_uncertainty"]) {
-    g.platform_anchor_halfwidth =
-        halfwidths(root["platform_anchor_uncertainty"], path + ": platform_anchor_uncertainty");
-  }
+  // Per-anchor bounds replace anchor_uncertainty for their kind of anchor (offsets [lo, hi] move the anchor's
+  // coordinate to the centre of its range).
+  const auto anchors = [&](const char* key, std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& h) {
+    if (!root[key]) return;
+    const std::string where = path + ": " + key;
+    const std::vector<Bounds3> b = anchorBounds(root[key], where);
+    if (points.size() != 6) fail(where, "needs the 6 anchors it bounds, got " + std::to_string(points.size()));
+    h.assign(6, Eigen::Vector3d::Zero());
+    for (std::size_t i = 0; i < 6; ++i) applyBounds(b[i], points[i], h[i], where + "[" + std::to_string(i) + "]");
+  };
+  anchors("base_anchor_uncertainty", g.base_anchors, g.base_anchor_halfwidth);
+  anchors("platform_anchor_uncertainty", g.platform_anchors, g.platform_anchor_halfwidth);
   if (root["tool_point_uncertainty"]) {
     const std::string where = path + ": tool_point_uncertainty";
-    g.tool_point_halfwidth = vec3(root["tool_point_uncertainty"], where);
-    if ((g.tool_point_halfwidth.array() < 0.0).any()) {
-      fail(where, "expected half-widths [hx, hy, hz] >= 0 (m), got " + triple(g.tool_point_halfwidth));
-    }
+    applyBounds(pointBounds(root["tool_point_uncertainty"], where), g.tool_point, g.tool_point_halfwidth, where);
   }
   try {
     g.validate();

@@ -1,5 +1,6 @@
 #include "pkm_accuracy/ros/RobotLoader.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -89,27 +90,69 @@ bool readPoint(const XmlRpc::XmlRpcValue& v, const std::string& what, Eigen::Vec
 }
 
 /// Three half-widths [hx, hy, hz], finite and >= 0 (m).
-bool readHalfwidth(const XmlRpc::XmlRpcValue& v, const std::string& what, Eigen::Vector3d& out, std::string& error) {
+using Bounds3 = std::array<model::CoordinateBound, 3>;
+
+/// One coordinate's bound: a half-width >= 0 (m) or offsets [lo, hi] (m) with lo <= hi.
+bool readCoordinateBound(const XmlRpc::XmlRpcValue& v, const std::string& what, model::CoordinateBound& out,
+                         std::string& error) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+    double lo = 0.0, hi = 0.0;
+    if (v.size() != 2) {
+      error = what + ": expected a half-width >= 0 (m) or offsets [lo, hi] (m), got " + describeValue(v);
+      return false;
+    }
+    if (!readFinite(v[0], what + "[0]", "m", lo, error) || !readFinite(v[1], what + "[1]", "m", hi, error))
+      return false;
+    if (!(lo <= hi)) {
+      error = what + ": expected offsets [lo, hi] with lo <= hi (m), got [" + numStr(lo) + ", " + numStr(hi) + "]";
+      return false;
+    }
+    out = model::CoordinateBound::offsets(lo, hi);
+    return true;
+  }
+  double h = 0.0;
+  if (!readFinite(v, what, "m", h, error)) return false;
+  if (h < 0.0) {
+    error = what + ": expected a half-width >= 0 (m), got " + numStr(h);
+    return false;
+  }
+  out = model::CoordinateBound::halfwidth(h);
+  return true;
+}
+
+/// The bounds of a point's 3 coordinates, [bx, by, bz], applied to the point and its half-widths (an asymmetric
+/// range moves the coordinate to its centre). On failure the point and half-widths are unspecified.
+bool readPointBounds(const XmlRpc::XmlRpcValue& v, const std::string& what, Eigen::Vector3d& point,
+                     Eigen::Vector3d& halfwidth, std::string& error) {
   if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || v.size() != 3) {
-    error = what + ": expected half-widths [hx, hy, hz] of 3 numbers >= 0 (m), got " + describeValue(v);
+    error =
+        what + ": expected [bx, by, bz], each a half-width >= 0 (m) or offsets [lo, hi] (m), got " + describeValue(v);
     return false;
   }
   for (int k = 0; k < 3; ++k) {
     const std::string name = what + "[" + std::to_string(k) + "]";
-    if (!readFinite(v[k], name, "m", out[k], error)) return false;
-    if (out[k] < 0.0) {
-      error = name + ": expected a half-width >= 0 (m), got " + numStr(out[k]);
+    model::CoordinateBound b;
+    if (!readCoordinateBound(v[k], name, b, error)) return false;
+    try {
+      model::applyCoordinateBound(b, point[k], halfwidth[k]);
+    } catch (const InvalidGeometry& e) {
+      error = name + ": " + e.what();
       return false;
     }
   }
   return true;
 }
 
-/// The half-widths of the 6 anchors of one kind: a number (every coordinate) or 6 triples [hx, hy, hz] (m).
-bool readHalfwidths(const XmlRpc::XmlRpcValue& v, const std::string& what, std::vector<Eigen::Vector3d>& out,
-                    std::string& error) {
+/// The bounds of the 6 anchors of one kind: a half-width (every coordinate) or 6 triples [bx, by, bz] (each a
+/// half-width or offsets [lo, hi], m), applied to the anchors and their half-widths (changed only on success).
+bool readAnchorBounds(const XmlRpc::XmlRpcValue& v, const std::string& what, std::vector<Eigen::Vector3d>& anchors,
+                      std::vector<Eigen::Vector3d>& halfwidths, std::string& error) {
   double h = 0.0;
-  std::vector<Eigen::Vector3d> w(kLegs, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> points = anchors, w(kLegs, Eigen::Vector3d::Zero());
+  if (points.size() != kLegs) {
+    error = what + ": needs the 6 anchors it bounds, got " + std::to_string(points.size());
+    return false;
+  }
   if (toNumber(v, h)) {
     if (!readFinite(v, what, "m", h, error)) return false;
     if (h < 0.0) {
@@ -119,15 +162,17 @@ bool readHalfwidths(const XmlRpc::XmlRpcValue& v, const std::string& what, std::
     w.assign(kLegs, Eigen::Vector3d::Constant(h));
   } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray && v.size() == kLegs) {
     for (int i = 0; i < kLegs; ++i) {
-      if (!readHalfwidth(v[i], what + "[" + std::to_string(i) + "]", w[i], error)) return false;
+      if (!readPointBounds(v[i], what + "[" + std::to_string(i) + "]", points[i], w[i], error)) return false;
     }
   } else {
     error = what +
-            ": expected a half-width >= 0 (m) for every coordinate, or a list of 6 triples [hx, hy, hz] (m), got " +
+            ": expected a half-width >= 0 (m) for every coordinate, or a list of 6 triples [bx, by, bz] (each a "
+            "half-width or offsets [lo, hi], m), got " +
             describeValue(v);
     return false;
   }
-  out = w;
+  anchors = points;
+  halfwidths = w;
   return true;
 }
 
@@ -307,19 +352,21 @@ bool loadSensorParameters(const ros::NodeHandle& nh, model::GoughGeometry& inout
     error = nh.resolveName("anchor_uncertainty") + ": " + e.what();
     return false;
   }
-  // Per-anchor half-widths replace anchor_uncertainty for their kind of anchor.
+  // Per-anchor bounds replace anchor_uncertainty for their kind of anchor (offsets [lo, hi] move the anchor's
+  // coordinate to the centre of its range).
   if (nh.getParam("base_anchor_uncertainty", v) &&
-      !readHalfwidths(v, nh.resolveName("base_anchor_uncertainty"), g.base_anchor_halfwidth, error)) {
+      !readAnchorBounds(v, nh.resolveName("base_anchor_uncertainty"), g.base_anchors, g.base_anchor_halfwidth, error)) {
     return false;
   }
   if (nh.getParam("platform_anchor_uncertainty", v) &&
-      !readHalfwidths(v, nh.resolveName("platform_anchor_uncertainty"), g.platform_anchor_halfwidth, error)) {
+      !readAnchorBounds(v, nh.resolveName("platform_anchor_uncertainty"), g.platform_anchors,
+                        g.platform_anchor_halfwidth, error)) {
     return false;
   }
   g.tool_point_halfwidth.setZero();
-  if (nh.getParam("tool_point_uncertainty", v)) {
-    const std::string name = nh.resolveName("tool_point_uncertainty");
-    if (!readHalfwidth(v, name, g.tool_point_halfwidth, error)) return false;
+  if (nh.getParam("tool_point_uncertainty", v) &&
+      !readPointBounds(v, nh.resolveName("tool_point_uncertainty"), g.tool_point, g.tool_point_halfwidth, error)) {
+    return false;
   }
   if (!validateGeometry(nh, g, error)) return false;
   inout = g;

@@ -931,6 +931,86 @@ TEST_F(CliTest, PerCoordinateAndToolPointHalfWidthsFromTheRobotFile) {
   EXPECT_EQ(u["anchor_uncertainty"].num(), 1e-4);
 }
 
+// A general box per coordinate: offsets [lo, hi] from the file's anchor (here one-sided tolerances) bound the
+// anchor's coordinate to [a + lo, a + hi]; the run is that of the robot with the anchor at the range's centre and
+// half the width as its half-width, and its bracket holds the errors sampled at the user's box's vertices.
+TEST_F(CliTest, GeneralBoxOffsetsFromTheRobotFile) {
+  const std::string robot = writeRobot("offsets.yaml",
+                                       "base_anchor_uncertainty: [[[-2e-3, 0], 1e-3, [0, 5e-4]], [0, 0, 0], [0, 0, 0], "
+                                       "[0, 0, 0], [0, 0, 0], [[0, 1e-3], 0, 0]]\n"
+                                       "tool_point_uncertainty: [[0, 0.01], 0, 0]\n");
+  const auto nominal = pkm_accuracy::io::loadRobotFile(kRef6).geometry;
+  const Eigen::Vector3d a0 = nominal.base_anchors[0], a5 = nominal.base_anchors[5];
+  // The user's box: {name: [lo, hi]}.
+  const std::map<std::string, std::pair<double, double>> box = {
+      {"base_anchors[0].x", {a0.x() - 2e-3, a0.x()}},
+      {"base_anchors[0].y", {a0.y() - 1e-3, a0.y() + 1e-3}},
+      {"base_anchors[0].z", {a0.z(), a0.z() + 5e-4}},
+      {"base_anchors[5].x", {a5.x(), a5.x() + 1e-3}},
+      {"tool_point.x", {nominal.tool_point.x(), nominal.tool_point.x() + 0.01}}};
+  const Json j =
+      runJson({"--robot", robot, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.02", "--threads", "2"}, 0);
+  const Json& names = j["geometry_parameters"];
+  ASSERT_EQ(names.size(), box.size());
+  for (const Json& n : names.array) {
+    ASSERT_EQ(box.count(n.str()), 1u) << n.str();
+    const std::vector<double> range = j["geometry_ranges"][n.str()].numbers();
+    const auto& want = box.at(n.str());
+    EXPECT_LE(range[0], want.first) << n.str();
+    EXPECT_GE(range[1], want.second) << n.str();
+    EXPECT_NEAR(range[1] - range[0], want.second - want.first, 1e-12) << n.str();
+  }
+  // The same robot written with centres and half-widths.
+  std::ostringstream centred;
+  centred.precision(17);
+  const auto points = [&centred](const char* key, std::vector<Eigen::Vector3d> v) {
+    centred << key << ": [";
+    for (std::size_t i = 0; i < v.size(); ++i)
+      centred << (i ? ", " : "") << "[" << v[i].x() << ", " << v[i].y() << ", " << v[i].z() << "]";
+    centred << "]\n";
+  };
+  std::vector<Eigen::Vector3d> base = nominal.base_anchors;
+  base[0] += Eigen::Vector3d(-1e-3, 0.0, 2.5e-4);
+  base[5] += Eigen::Vector3d(5e-4, 0.0, 0.0);
+  points("base_anchors", base);
+  points("platform_anchors", nominal.platform_anchors);
+  centred << "sensor_error: [";
+  for (std::size_t i = 0; i < 6; ++i) centred << (i ? ", " : "") << nominal.sensor_error[i];
+  centred << "]\ntool_point: [" << nominal.tool_point.x() + 0.005 << ", " << nominal.tool_point.y() << ", "
+          << nominal.tool_point.z() << "]\n"
+          << "base_anchor_uncertainty: [[1e-3, 1e-3, 2.5e-4], [0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], "
+             "[5e-4, 0, 0]]\ntool_point_uncertainty: [0.005, 0, 0]\n";
+  {
+    std::ofstream f(path("centred.yaml"));
+    f << centred.str();
+  }
+  const Json c = runJson({"--robot", path("centred.yaml"), "--workspace", tiny_, "--mode", "max-error", "--alpha",
+                          "0.02", "--threads", "2"},
+                         0);
+  const auto upper = j["max_error"]["upper"].numbers(), lower = j["max_error"]["lower"].numbers();
+  const auto upperC = c["max_error"]["upper"].numbers();
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(upper[k], upperC[k], 1e-9 * upperC[k]) << k;
+  // The oracle at the user's box's vertices (the first: every coordinate at its upper end).
+  std::vector<double> sampled(6, 0.0);
+  std::mt19937 rng(7);
+  for (int v = 0; v < 16; ++v) {
+    Json vertex;
+    vertex.type = Json::Type::Object;
+    for (const auto& kv : box) {
+      Json x;
+      x.type = Json::Type::Number;
+      x.number = v == 0 || (rng() & 1u) != 0 ? kv.second.second : kv.second.first;
+      vertex.object[kv.first] = x;
+    }
+    const auto m = sampledMax(ref6WithGeometry(vertex), kTiny, 3);
+    for (int k = 0; k < 6; ++k) sampled[k] = std::max(sampled[k], m[k]);
+  }
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_GE(upper[k], sampled[k]) << k;
+    EXPECT_LE(lower[k], upper[k]) << k;
+  }
+}
+
 // A robot file key nobody reads (here a misspelt tool_point_uncertainty) is reported on stderr, and the run goes on
 // without it; the node's own parameters in the same file are not reported.
 TEST_F(CliTest, UnknownRobotFileKeysAreReported) {
@@ -1032,7 +1112,15 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", t6, "--workspace", typo2},
        {"--workspace", "typo2.yaml: region.radiu", "unknown key", "centre, radius, type, z"}},
       {{"--robot", writeRobot("tool.yaml", "tool_point_uncertainty: [0, 1e-3]\n"), "--thresholds", t6},
-       {"--robot", "tool_point_uncertainty", "3 numbers"}},
+       {"--robot", "tool_point_uncertainty", "[bx, by, bz]", "a list of 2 items"}},
+      {{"--robot", writeRobot("tool3.yaml", "tool_point_uncertainty: [[1e-3], 0, 0]\n"), "--thresholds", t6},
+       {"--robot", "tool_point_uncertainty[0]", "2 numbers [lo, hi]"}},
+      {{"--robot",
+        writeRobot("reversed.yaml",
+                   "base_anchor_uncertainty: [[[1e-3, -1e-3], 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], "
+                   "[0, 0, 0], [0, 0, 0]]\n"),
+        "--thresholds", t6},
+       {"--robot", "base_anchor_uncertainty[0][0]", "lo <= hi", "[0.001, -0.001]"}},
       {{"--robot", writeRobot("tool2.yaml", "tool_point_uncertainty: [0, -1e-3, 0]\n"), "--thresholds", t6},
        {"--robot", "tool_point_uncertainty", ">= 0"}},
   };

@@ -453,6 +453,50 @@ TEST(UncertaintyModel, GeometryDerivativesContainFiniteDifferences) {
   EXPECT_GT(checked, 3 * 6 * 36 * 6);
 }
 
+TEST(UncertaintyModel, CoordinateBoundsMoveToTheCentreAndContainTheRange) {
+  // Offsets [lo, hi]: the coordinate moves to the centre of [v + lo, v + hi] and the half-width covers that range
+  // (checked in long double, where these sums and differences of doubles of similar size are exact).
+  std::mt19937_64 rng(204);
+  std::uniform_real_distribution<double> value(-0.3, 0.3), offset(-2e-3, 2e-3);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double v = value(rng);
+    double lo = offset(rng), hi = offset(rng);
+    if (lo > hi) std::swap(lo, hi);
+    if (trial % 7 == 0) {  // one-sided
+      lo = 0.0;
+      hi = std::abs(hi);
+    }
+    if (trial % 11 == 0) hi = lo;  // a single value
+    double c = v, h = -1.0;
+    model::applyCoordinateBound(model::CoordinateBound::offsets(lo, hi), c, h);
+    EXPECT_GE(h, 0.0);
+    EXPECT_LE(static_cast<long double>(c) - h, static_cast<long double>(v) + lo) << v << " " << lo << " " << hi;
+    EXPECT_GE(static_cast<long double>(c) + h, static_cast<long double>(v) + hi) << v << " " << lo << " " << hi;
+    EXPECT_NEAR(c, v + 0.5 * (lo + hi), 1e-15);
+    EXPECT_NEAR(h, 0.5 * (hi - lo), 1e-15);
+  }
+  // A half-width keeps the value.
+  double c = 0.1, h = 0.0;
+  model::applyCoordinateBound(model::CoordinateBound::halfwidth(1e-3), c, h);
+  EXPECT_EQ(c, 0.1);
+  EXPECT_EQ(h, 1e-3);
+  // Bad bounds throw, naming what was expected.
+  const auto message = [](const model::CoordinateBound& b) {
+    double x = 0.1, w = 0.0;
+    try {
+      model::applyCoordinateBound(b, x, w);
+    } catch (const InvalidGeometry& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(model::CoordinateBound::offsets(1e-3, -1e-3)).find("lo <= hi"), std::string::npos);
+  EXPECT_NE(message(model::CoordinateBound::halfwidth(-1e-3)).find(">= 0"), std::string::npos);
+  EXPECT_NE(message(model::CoordinateBound::offsets(0.0, std::numeric_limits<double>::infinity())).find("finite"),
+            std::string::npos);
+  EXPECT_NE(message(model::CoordinateBound::halfwidth(std::nan(""))).find("finite"), std::string::npos);
+}
+
 TEST(UncertaintyModel, AffineGeometryDerivativesHoldAtEveryVertex) {
   // The anchors' entries carry first-order affine forms in the pose (GeometryRowDerivative::affine): at every pose t
   // of the box and every admissible geometry, component l of the derivative lies within radius[l] of

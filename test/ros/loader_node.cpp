@@ -130,6 +130,37 @@ TEST(Loader, PerCoordinateAndToolPointHalfWidths) {
   EXPECT_EQ(g.tool_point_halfwidth, Eigen::Vector3d::Zero());
 }
 
+// Offsets [lo, hi] (a general box per coordinate) move the coordinate to the centre of its range.
+TEST(Loader, OffsetsMoveTheCoordinateToTheCentreOfItsRange) {
+  ros::NodeHandle nh = refRobotIn("offsets");
+  const auto ref = pkm_accuracy_test::loadRef6();
+  XmlRpc::XmlRpcValue v = points(std::vector<Eigen::Vector3d>(6, Eigen::Vector3d::Zero()));
+  v[1][0] = list({-0.002, 0.0});
+  v[1][2] = 0.0005;
+  nh.setParam("platform_anchor_uncertainty", v);
+  XmlRpc::XmlRpcValue t = list({0.0, 0.0, 0.0});
+  t[2] = list({0.0, 0.01});
+  nh.setParam("tool_point_uncertainty", t);
+  GoughGeometry g;
+  std::string error;
+  ASSERT_TRUE(loadGoughGeometry(nh, g, error)) << error;
+  EXPECT_NEAR(g.platform_anchors[1].x(), ref.platform_anchors[1].x() - 0.001, 1e-15);
+  EXPECT_EQ(g.platform_anchors[1].y(), ref.platform_anchors[1].y());
+  EXPECT_EQ(g.platform_anchors[1].z(), ref.platform_anchors[1].z());
+  EXPECT_EQ(g.platform_anchors[2], ref.platform_anchors[2]);
+  EXPECT_NEAR(g.platform_anchor_halfwidth[1].x(), 0.001, 1e-15);
+  // (In long double, where these sums of doubles of similar size are exact.)
+  using LD = long double;
+  EXPECT_LE(LD(g.platform_anchors[1].x()) - g.platform_anchor_halfwidth[1].x(),
+            LD(ref.platform_anchors[1].x()) - 0.002);
+  EXPECT_GE(LD(g.platform_anchors[1].x()) + g.platform_anchor_halfwidth[1].x(), LD(ref.platform_anchors[1].x()));
+  EXPECT_EQ(g.platform_anchor_halfwidth[1].z(), 0.0005);
+  EXPECT_NEAR(g.tool_point.z(), 0.005, 1e-15);
+  EXPECT_NEAR(g.tool_point_halfwidth.z(), 0.005, 1e-15);
+  EXPECT_LE(g.tool_point.z() - g.tool_point_halfwidth.z(), 0.0);
+  EXPECT_GE(g.tool_point.z() + g.tool_point_halfwidth.z(), 0.01);
+}
+
 TEST(Loader, BadHalfWidthsAreRejectedNamingTheParameter) {
   {
     ros::NodeHandle nh = refRobotIn("five_halfwidths");
@@ -151,7 +182,21 @@ TEST(Loader, BadHalfWidthsAreRejectedNamingTheParameter) {
   {
     ros::NodeHandle nh = refRobotIn("short_tool_halfwidth");
     nh.setParam("tool_point_uncertainty", list({0.001, 0.001}));
-    expectFailure(nh, {"tool_point_uncertainty", "[hx, hy, hz]", "got a list of 2 items"});
+    expectFailure(nh, {"tool_point_uncertainty", "[bx, by, bz]", "got a list of 2 items"});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("reversed_offsets");
+    XmlRpc::XmlRpcValue v = points(std::vector<Eigen::Vector3d>(6, Eigen::Vector3d::Zero()));
+    v[4][2] = list({0.001, -0.001});
+    nh.setParam("base_anchor_uncertainty", v);
+    expectFailure(nh, {"base_anchor_uncertainty[4][2]", "lo <= hi", "[0.001, -0.001]"});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("three_offsets");
+    XmlRpc::XmlRpcValue v = list({0.0, 0.0, 0.0});
+    v[1] = list({-0.001, 0.0, 0.001});
+    nh.setParam("tool_point_uncertainty", v);
+    expectFailure(nh, {"tool_point_uncertainty[1]", "offsets [lo, hi]", "a list of 3 items"});
   }
   {
     ros::NodeHandle nh = refRobotIn("string_tool_halfwidth");

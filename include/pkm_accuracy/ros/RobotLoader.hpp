@@ -42,10 +42,12 @@ constexpr const char* kDefaultPlatformFrame = "platform";
 /// tool_point: [0.0, 0.0, 0.0] # optional (default 0): error reference point c in the platform frame (m)
 /// anchor_uncertainty: 0.0005  # optional (default 0): every coordinate of every A_i and b_i is only known to
 ///                             # +- this half-width (m)
-/// base_anchor_uncertainty:    # optional: per-coordinate half-widths of the A_i (m), 6 triples [hx, hy, hz] or one
-///   - [0.001, 0.001, 0.0]     # number for every coordinate; replaces anchor_uncertainty for the base anchors
-///   - ...                     # (platform_anchor_uncertainty: the same for the b_i)
-/// tool_point_uncertainty: [0.0, 0.0, 0.0005]  # optional (default 0): half-widths of the tool point (m)
+/// base_anchor_uncertainty:    # optional: per-coordinate bounds of the A_i (m), 6 triples [bx, by, bz] or one
+///   - [0.001, 0.001, 0.0]     # number for every coordinate; replaces anchor_uncertainty for the base anchors;
+///   - [[-0.0002, 0.0], 0.001, 0.0]  # each bound a half-width or offsets [lo, hi] (the coordinate lies in
+///   - ...                     # [a + lo, a + hi] and moves to its centre: model::applyCoordinateBound)
+///                             # (platform_anchor_uncertainty: the same for the b_i)
+/// tool_point_uncertainty: [0.0, 0.0, 0.0005]  # optional (default 0): bounds of the tool point (m), as above
 /// base_frame: base_link       # optional (default "base_link"): read by loadRobotFrames(), not by this function
 /// @endcode
 ///

@@ -1,9 +1,11 @@
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/interval/Rounding.hpp"
 
 namespace pkm_accuracy {
 namespace model {
@@ -53,6 +55,43 @@ void checkHalfwidths(const std::vector<Eigen::Vector3d>& hw, const char* name, s
 }
 
 }  // namespace
+
+void applyCoordinateBound(const CoordinateBound& b, double& value, double& halfwidth) {
+  if (!std::isfinite(value) || !std::isfinite(b.lo) || !std::isfinite(b.hi)) {
+    std::ostringstream os;
+    os.precision(10);
+    if (b.symmetric) {
+      os << "expected a finite half-width >= 0 (m), got " << b.hi;
+    } else {
+      os << "expected finite offsets [lo, hi] (m), got [" << b.lo << ", " << b.hi << "]";
+    }
+    throw InvalidGeometry(os.str());
+  }
+  if (b.symmetric) {
+    if (!(b.hi >= 0.0) || b.lo != -b.hi) {
+      std::ostringstream os;
+      os.precision(10);
+      os << "expected a half-width >= 0 (m), got " << b.hi;
+      throw InvalidGeometry(os.str());
+    }
+    halfwidth = b.hi;
+    return;
+  }
+  if (!(b.lo <= b.hi)) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "expected offsets [lo, hi] with lo <= hi (m), got [" << b.lo << ", " << b.hi << "]";
+    throw InvalidGeometry(os.str());
+  }
+  // [value + lo, value + hi] rounded outward, then its centre c and h >= max(c - low, high - c) rounded up: so
+  // [c - h, c + h] (which the models round outward again) contains the range.
+  const double low = interval::rounding::addDown(value, b.lo), high = interval::rounding::addUp(value, b.hi);
+  const double c = 0.5 * low + 0.5 * high;
+  const double h = std::max(interval::rounding::subUp(high, c), interval::rounding::subUp(c, low));
+  if (!std::isfinite(c) || !std::isfinite(h)) throw InvalidGeometry("the range is not finite");
+  value = c;
+  halfwidth = std::max(h, 0.0);
+}
 
 bool GoughGeometry::hasUncertainty() const {
   auto any = [](const std::vector<Eigen::Vector3d>& v) {

@@ -12,6 +12,23 @@
 namespace pkm_accuracy {
 namespace model {
 
+/// How one uncertain coordinate is given: a half-width h >= 0 (it lies in value +- h; lo = -h, hi = h, symmetric) or
+/// offsets lo <= hi from its given value (it lies in [value + lo, value + hi]: a general box, e.g. a one-sided
+/// tolerance [-0.0002, 0]).
+struct CoordinateBound {
+  double lo = 0.0, hi = 0.0;
+  bool symmetric = true;
+  static CoordinateBound halfwidth(double h) { return {-h, h, true}; }
+  static CoordinateBound offsets(double lo, double hi) { return {lo, hi, false}; }
+};
+
+/// Applies a bound to one coordinate of a point (an anchor or the tool point) and its half-width: a symmetric bound
+/// sets halfwidth = h and keeps the value; offsets move the value to the centre of [value + lo, value + hi] and set
+/// the half-width to half its width, rounded so that value +- halfwidth contains that range (the centre is the
+/// nominal coordinate the models and reports then use).
+/// @throws InvalidGeometry (the message names no field; callers add it) if h < 0, lo > hi or a value is not finite.
+void applyCoordinateBound(const CoordinateBound& bound, double& value, double& halfwidth);
+
 struct GoughGeometry {
   std::vector<Eigen::Vector3d> base_anchors;             ///< A_i in the base frame (m); one per leg
   std::vector<Eigen::Vector3d> platform_anchors;         ///< b_i in the platform frame (m); one per leg
