@@ -1,6 +1,5 @@
 #include "pkm_accuracy/ros/RobotLoader.hpp"
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -88,9 +87,6 @@ bool readPoint(const XmlRpc::XmlRpcValue& v, const std::string& what, Eigen::Vec
   }
   return true;
 }
-
-/// Three half-widths [hx, hy, hz], finite and >= 0 (m).
-using Bounds3 = std::array<model::CoordinateBound, 3>;
 
 /// One coordinate's bound: a half-width >= 0 (m) or offsets [lo, hi] (m) with lo <= hi.
 bool readCoordinateBound(const XmlRpc::XmlRpcValue& v, const std::string& what, model::CoordinateBound& out,
