@@ -150,12 +150,9 @@ bool readAnchorBounds(const XmlRpc::XmlRpcValue& v, const std::string& what, std
     return false;
   }
   if (toNumber(v, h)) {
-    if (!readFinite(v, what, "m", h, error)) return false;
-    if (h < 0.0) {
-      error = what + ": expected a half-width >= 0 (m), got " + numStr(h);
-      return false;
-    }
-    w.assign(kLegs, Eigen::Vector3d::Constant(h));
+    model::CoordinateBound b;
+    if (!readCoordinateBound(v, what, b, error)) return false;
+    w.assign(kLegs, Eigen::Vector3d::Constant(b.hi));
   } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray && v.size() == kLegs) {
     for (int i = 0; i < kLegs; ++i) {
       if (!readPointBounds(v[i], what + "[" + std::to_string(i) + "]", points[i], w[i], error)) return false;

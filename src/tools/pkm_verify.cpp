@@ -566,9 +566,8 @@ int run(int argc, char** argv) {
   info.units.assign(std::begin(kUnits), std::end(kUnits));
   for (int p = 0; p < model.geometryParameterCount(); ++p) {
     info.geometry_parameters.push_back(model.geometryParameterName(p));
-  }
-  for (int p = 0; p < model.geometryParameterCount(); ++p)
     info.geometry_ranges.push_back(model.geometryParameterRange(p));
+  }
   describeUncertainty(robot.geometry, info);
 
   verify::VerifierOptions& options = a.options;

@@ -7,11 +7,12 @@
 //   sensor_error:     [e1..e6] or e        # m
 //   tool_point:       [x, y, z]            # m, platform frame (optional, default 0)
 //   anchor_uncertainty: h                  # m, half-width of every anchor coordinate (optional, default 0)
-//   base_anchor_uncertainty: h or [[hx, hy, hz] x 6]      # m, optional: per-coordinate half-widths of the A_i,
-//   platform_anchor_uncertainty: h or [[hx, hy, hz] x 6]  # resp. b_i (each replaces anchor_uncertainty for its
-//                                                         # anchors; an asymmetric bound [lo, hi] is the nominal
-//                                                         # (lo + hi) / 2 with half-width (hi - lo) / 2)
-//   tool_point_uncertainty: [hx, hy, hz]   # m, optional (default 0): half-widths of the tool point
+//   base_anchor_uncertainty: h or [[bx, by, bz] x 6]      # m, optional: per-coordinate bounds of the A_i,
+//   platform_anchor_uncertainty: h or [[bx, by, bz] x 6]  # resp. b_i (each replaces anchor_uncertainty for its
+//                                                         # anchors); each bound a half-width h or offsets
+//                                                         # [lo, hi] (the coordinate moves to the range's centre:
+//                                                         # model::applyCoordinateBound)
+//   tool_point_uncertainty: [bx, by, bz]   # m, optional (default 0): bounds of the tool point, as above
 //   workspaces: {name: <workspace>}        # optional
 // Workspace (inline under `workspaces:` or as a file of its own with these keys at top level):
 //   x: [min, max]  y: [min, max]  z: [min, max]          # m (the box region, or the bounds of another region)
