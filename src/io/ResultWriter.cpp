@@ -315,6 +315,22 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("witness_lower_bound", witness ? Node::number(r.witness_lower_bound) : Node());
   d.set("witness_error_lower", witness ? numbersOrNull(r.witness_error_lower) : Node());
 
+  // A certified singular pose (either mode): the two points where det J^-1 has opposite certified signs.
+  if (r.singular) {
+    Node s = Node::object();
+    s.set("from", numbers(r.singular_from));
+    s.set("to", numbers(r.singular_to));
+    s.set("from_pose", numbers(midpoints(r.singular_pose_from)));
+    s.set("to_pose", numbers(midpoints(r.singular_pose_to)));
+    const bool t = isTrajectory(info) && r.singular_from.size() > 0 && r.singular_to.size() > 0;
+    s.set("from_t", t ? Node::number(info.timeOf(r.singular_from[0])) : Node());
+    s.set("to_t", t ? Node::number(info.timeOf(r.singular_to[0])) : Node());
+    s.set("geometry", geometryValues(info, r.singular_geometry));
+    d.set("singular", s);
+  } else {
+    d.set("singular", Node());
+  }
+
   // Uncertainty-sensitive poses (verify mode with uncertain geometry).
   d.set("sensitive_count", count(r.sensitive_count));
   Node sensitive = Node::array();
@@ -630,6 +646,20 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
        << unitOf(info, k);
     if (k < o.thresholds.size()) os << " > threshold " << num(o.thresholds[k]) << " " << unitOf(info, k);
     os << " (certified)\n";
+  }
+
+  if (r.singular) {
+    os << "singular:  det J^-1 has certified opposite signs, for "
+       << (r.singular_geometry.empty() ? "every admissible geometry" : "the nominal geometry")
+       << ", at the two ends of a segment inside the domain: J^-1 is singular between them\n";
+    RunInfo poseNames = info;
+    poseNames.variables = {"x [m]", "y [m]", "z [m]", "roll [rad]", "pitch [rad]", "yaw [rad]"};
+    for (const DVec* t : {&r.singular_from, &r.singular_to}) {
+      const IVec& pose = t == &r.singular_from ? r.singular_pose_from : r.singular_pose_to;
+      os << "           ";
+      if (isTrajectory(info) && t->size() > 0) os << "t = " << num(info.timeOf((*t)[0]), 9) << " s: ";
+      os << variables(poseNames, midpoints(pose)) << "\n";
+    }
   }
 
   if (!r.sensitive.empty()) {

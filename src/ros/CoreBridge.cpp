@@ -173,6 +173,18 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     e = std::max(e, r.witness_lower_bound);
   }
 
+  if (r.singular && r.singular_pose_from.size() == 6 && r.singular_pose_to.size() == 6) {
+    out.singular = true;
+    for (int i = 0; i < 6; ++i) {
+      out.singular_poses[static_cast<std::size_t>(i)] = r.singular_pose_from[i].mid();
+      out.singular_poses[static_cast<std::size_t>(i) + 6] = r.singular_pose_to[i].mid();
+    }
+    if (q.is_trajectory && r.singular_from.size() >= 1 && r.singular_to.size() >= 1) {
+      out.singular_t[0] = q.trajectory.timeOf(r.singular_from[0]);
+      out.singular_t[1] = q.trajectory.timeOf(r.singular_to[0]);
+    }
+  }
+
   out.boxes = r.stats.boxes;
   out.max_depth = static_cast<unsigned>(std::max(0, r.stats.max_depth));
   out.threads = static_cast<unsigned>(std::max(0, r.stats.threads));

@@ -108,6 +108,8 @@ void fillCommonResponse(const Outcome& o, Response& res) {
   res.lower_bound_geometries = o.lower_bound_geometries;
   res.has_witness = o.has_witness;
   res.witness_component = o.witness_component;
+  res.singular = o.singular;
+  for (std::size_t i = 0; i < 12; ++i) res.singular_poses[i] = o.singular_poses[i];
   res.boxes = o.boxes;
   res.max_depth = o.max_depth;
   res.threads = o.threads;

@@ -100,6 +100,8 @@ void fillResponse(const WorkspaceOutcome& o, Response& res) {
   res.busy = o.busy;
   res.lower_bound_times = o.lower_bound_times;
   res.witness_t = o.witness_t;
+  res.singular_t[0] = o.singular_t[0];
+  res.singular_t[1] = o.singular_t[1];
   res.sensitive_t = o.sensitive.t;
   res.sensitive_t_start = o.sensitive.t_start;
   res.sensitive_t_end = o.sensitive.t_end;

@@ -132,6 +132,37 @@ inline MpMat mpSolve(MpMat a, MpMat b) {
   return b;
 }
 
+/// Sign of det A (+1, -1; 0 if a pivot vanishes at 200 bits) by Gauss elimination with partial pivoting, in MPFR.
+inline int mpDeterminantSign(MpMat a) {
+  const int n = static_cast<int>(a.size());
+  int sign = 1;
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i)
+      if (mpfr_cmpabs(a[i][k].v, a[p][k].v) > 0) p = i;
+    if (p != k) {
+      std::swap(a[k], a[p]);
+      sign = -sign;
+    }
+    const int s = mpfr_sgn(a[k][k].v);
+    if (s == 0) return 0;
+    if (s < 0) sign = -sign;
+    for (int i = k + 1; i < n; ++i) {
+      const Mp f = a[i][k] / a[k][k];
+      for (int j = k; j < n; ++j) a[i][j] = a[i][j] - f * a[k][j];
+    }
+  }
+  return sign;
+}
+
+/// The same for a double matrix (its entries exact).
+inline int mpDeterminantSign(const DMat& a) {
+  MpMat m(a.rows(), std::vector<Mp>(a.cols(), Mp(0.0)));
+  for (int i = 0; i < a.rows(); ++i)
+    for (int j = 0; j < a.cols(); ++j) m[i][j] = Mp(a(i, j));
+  return mpDeterminantSign(std::move(m));
+}
+
 inline MpMat mpIdentity(int n) {
   MpMat id(n, std::vector<Mp>(n, Mp(0.0)));
   for (int i = 0; i < n; ++i) id[i][i] = Mp(1.0);

@@ -503,6 +503,31 @@ TEST(TrajectoryVerify, DescentThroughTheCoplanarSingularityIsUnsafe) {
   EXPECT_GT(inside.stats.outside_fraction, 0.3);
 }
 
+TEST(TrajectoryVerify, CrossingTheCoplanarSingularityIsUnsafeForAnyThreshold) {
+  // Thresholds no double evaluation can certify: UNSAFE through the certified sign change of det J^-1 along the
+  // trajectory, whose two times bracket the crossing of z = 0 (where every leg lies in the base plane).
+  const WaypointTrajectory traj =
+      waypoints({{0.0, 0.0, 0.0, 0.30, 0.0, 0.0, 0.0}, {5.0, 0.0, 0.0, -0.05, 0.0, 0.0, 0.0}},
+                WaypointTrajectory::Interpolation::LinearRpy);
+  const auto r = verifyAt(traj, DVec::Constant(6, 1e15));
+  ASSERT_EQ(r.verdict, Verdict::Unsafe) << r.message;
+  ASSERT_TRUE(r.singular) << r.message;
+  ASSERT_EQ(r.singular_from.size(), 1);
+  ASSERT_EQ(r.singular_to.size(), 1);
+  const double za = traj.pointAtTime(traj.timeOf(r.singular_from[0])).pose[2];
+  const double zb = traj.pointAtTime(traj.timeOf(r.singular_to[0])).pose[2];
+  EXPECT_LT(za * zb, 0.0) << za << " " << zb;
+  EXPECT_TRUE(r.singular_pose_from[2].contains(za));
+  EXPECT_TRUE(r.singular_pose_to[2].contains(zb));
+  // Stopped before it: no singular pose, no certificate.
+  const WaypointTrajectory above =
+      waypoints({{0.0, 0.0, 0.0, 0.30, 0.0, 0.0, 0.0}, {5.0, 0.0, 0.0, 0.05, 0.0, 0.0, 0.0}},
+                WaypointTrajectory::Interpolation::LinearRpy);
+  const auto safe = verifyAt(above, DVec::Constant(6, 1e15));
+  EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
+  EXPECT_FALSE(safe.singular);
+}
+
 TEST(TrajectoryVerify, AccurateWaypointsWithAnInaccurateMiddleAreCaught) {
   // (1) A large rotation between two accurate orientations: yaw 1.2 -> 1.94 turns through the singular yaw = pi/2.
   for (auto i : {WaypointTrajectory::Interpolation::Slerp, WaypointTrajectory::Interpolation::LinearRpy}) {

@@ -2620,3 +2620,28 @@ TEST(UncertaintyVerifier, ToolPointUncertaintyConvergesAtItsVertices) {
     for (const Geometry& geo : geometries) EXPECT_GE(u.error(geo, r.max_argmax[k])[k], r.max_lower[k] * (1 - 1e-12));
   }
 }
+
+TEST(UncertaintyVerify, SingularWorkspaceMaximumIsUnboundedThroughTheNominalGeometry) {
+  // paper_40deg at +-1 mm: det J^-1 changes sign over the workspace for the nominal geometry (not certifiably for
+  // every admissible one at the corner where it is positive), which is enough for the maximum over poses and
+  // geometries to be unbounded. The signs are checked in MPFR with the nominal geometry.
+  const model::GoughPlatform robot(withUncertainty(0.001));
+  const model::GoughGeometry nominal = test::ref6File().geometry;
+  const domain::Workspace& ws = test::ref6File().workspaces.at("paper_40deg");
+  verify::VerifierOptions o;
+  o.threads = 2;
+  o.mode = verify::Mode::MaxError;
+  o.time_limit_s = 20.0;
+  const auto r = verify::Verifier::run(robot, ws, o);
+  ASSERT_TRUE(r.singular) << r.message;
+  EXPECT_FALSE(r.converged);
+  EXPECT_LT(r.stats.boxes, 1000u);
+  std::vector<double> gc, gh;
+  centresAndHalfWidths(robot, gc, gh);
+  EXPECT_EQ(r.singular_geometry, gc);
+  const int a = test::mpDeterminantSign(test::mpInverseJacobian(nominal, r.singular_from));
+  const int b = test::mpDeterminantSign(test::mpInverseJacobian(nominal, r.singular_to));
+  EXPECT_NE(a, 0);
+  EXPECT_EQ(a, -b);
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(r.max_upper[k], std::numeric_limits<double>::infinity()) << k;
+}

@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <limits>
 #include <random>
 
+#include "MpfrGough.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
@@ -75,6 +77,7 @@ TEST(Verifier, SafeTenPercentAboveSampledMaximaUnsafeFivePercentBelow) {
   o.thresholds = maxima * 1.10;
   const auto safe = verify::Verifier::run(s.robot, s.ws, o);
   EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
+  EXPECT_FALSE(safe.singular);
   EXPECT_EQ(safe.undecided_box_count, 0u);
   EXPECT_NEAR(safe.stats.safe_fraction, 1.0, 1e-9);
 
@@ -134,6 +137,71 @@ TEST(Verifier, Paper40DegreesIsUnsafe) {
   const auto r = verify::Verifier::run(robot, rf.workspaces.at("paper_40deg"), o);
   ASSERT_EQ(r.verdict, Verdict::Unsafe) << r.message;
   EXPECT_GT(robot.worstErrorAt(r.witness)[r.witness_component], o.thresholds[r.witness_component]);
+}
+
+TEST(Verifier, SingularWorkspaceIsUnsafeForAnyThresholdAndItsMaximumUnbounded) {
+  // paper_40deg contains singular poses: whatever the thresholds, the verdict is UNSAFE, through a certified sign
+  // change of det J^-1 (checked here in MPFR at both ends) where no pose's error can be certified above them.
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper_40deg");
+  const IVec box = ws.initialBox();
+  auto checkEnds = [&](const verify::VerifierResult& r) {
+    ASSERT_TRUE(r.singular) << r.message;
+    ASSERT_EQ(r.singular_from.size(), 6);
+    ASSERT_EQ(r.singular_to.size(), 6);
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_TRUE(box[i].contains(r.singular_from[i])) << i;
+      EXPECT_TRUE(box[i].contains(r.singular_to[i])) << i;
+      EXPECT_TRUE(r.singular_pose_from[i].contains(r.singular_from[i])) << i;
+    }
+    const int a = test::mpDeterminantSign(test::mpInverseJacobian(rf.geometry, r.singular_from));
+    const int b = test::mpDeterminantSign(test::mpInverseJacobian(rf.geometry, r.singular_to));
+    EXPECT_NE(a, 0);
+    EXPECT_EQ(a, -b);
+    EXPECT_TRUE(r.singular_geometry.empty());
+  };
+  verify::VerifierOptions o;
+  o.threads = 2;
+  o.time_limit_s = 20.0;
+  o.thresholds = DVec::Constant(6, 1e15);  // (no double evaluation can certify an error this large)
+  const auto huge = verify::Verifier::run(robot, ws, o);
+  ASSERT_EQ(huge.verdict, Verdict::Unsafe) << huge.message;
+  EXPECT_NE(huge.message.find("singular"), std::string::npos) << huge.message;
+  checkEnds(huge);
+  EXPECT_LT(huge.stats.boxes, 1000u);
+  if (huge.witness_component >= 0) {
+    EXPECT_GT(robot.worstErrorAt(huge.witness)[huge.witness_component], 1e15);
+  }
+
+  // 1e6 (m and rad): a certified witness is found near the singular pose.
+  o.thresholds = DVec::Constant(6, 1e6);
+  const auto large = verify::Verifier::run(robot, ws, o);
+  ASSERT_EQ(large.verdict, Verdict::Unsafe) << large.message;
+  checkEnds(large);
+  ASSERT_GE(large.witness_component, 0) << large.message;
+  for (int i = 0; i < 6; ++i) EXPECT_TRUE(box[i].contains(large.witness[i])) << i;
+  const std::vector<test::Mp> exact = test::mpfrWorstError(rf.geometry, large.witness);
+  EXPECT_TRUE(test::mpGreaterEqual(exact[large.witness_component], large.witness_lower_bound));
+  EXPECT_GT(large.witness_lower_bound, 1e6);
+
+  // Max-error mode: the maximum is unbounded; the run stops at once, its lower bounds still attained.
+  o.mode = verify::Mode::MaxError;
+  o.thresholds.resize(0);
+  const auto max = verify::Verifier::run(robot, ws, o);
+  checkEnds(max);
+  EXPECT_FALSE(max.converged);
+  EXPECT_EQ(max.verdict, Verdict::Undecided);
+  EXPECT_EQ(max.reason, verify::UndecidedReason::NoThresholds);
+  EXPECT_NE(max.message.find("unbounded"), std::string::npos) << max.message;
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(max.max_upper[k], std::numeric_limits<double>::infinity()) << k;
+    ASSERT_EQ(max.max_argmax[k].size(), 6) << k;
+    EXPECT_TRUE(test::mpGreaterEqual(test::mpfrWorstError(rf.geometry, max.max_argmax[k])[k], max.max_lower[k])) << k;
+  }
+  // With thresholds, max-error mode says UNSAFE.
+  o.thresholds = DVec::Constant(6, 1e15);
+  EXPECT_EQ(verify::Verifier::run(robot, ws, o).verdict, Verdict::Unsafe);
 }
 
 TEST(Verifier, ScaleInvariance) {
@@ -203,11 +271,15 @@ TEST(Verifier, BudgetsAndCancellationGiveUndecidedWithTheirReason) {
   EXPECT_EQ(r.verdict, Verdict::Undecided);
   EXPECT_EQ(r.reason, verify::UndecidedReason::Cancelled);
 
-  // The time budget on a job that needs many seconds: max-error to 1% over the paper workspace at +-40 deg (more than
-  // 10 s on one thread; the +-15 deg one at +5% of its maxima, used here before, now takes about 0.2 s).
+  // The time budget on a job that needs many seconds: max-error to 1% over the paper workspace at +-38 deg (~8 s on
+  // one thread; the +-15 deg one at +5% of its maxima, used here before, now takes about 0.2 s, and the +-40 deg one
+  // contains singular poses, which end a max-error run at once).
   const io::RobotFile file = test::ref6File();
   const model::GoughPlatform robot(file.geometry);
-  const domain::Workspace& wide = file.workspaces.at("paper_40deg");
+  const double a = 0.6632251157578453;
+  const domain::Workspace wide =
+      domain::Workspace::fromRanges({Interval(-0.15, 0.15), Interval(-0.15, 0.15), Interval(0.45, 0.5), Interval(-a, a),
+                                     Interval(-a, a), Interval(-a, a)});
   o.cancel = nullptr;
   o.mode = verify::Mode::MaxError;
   o.thresholds.resize(0);

@@ -17,12 +17,16 @@
 //   geometric uncertainty), geometry_ranges ({parameter name: [lo, hi]}, the admissible values; null without),
 //   witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the
 //   domain's variables), witness_component (index), witness_component_name, witness_lower_bound, witness_error_lower
-//   ([6] or null), sensitive_count (uncertainty-sensitive poses found: some admissible geometry exceeds a threshold
-//   there, none was shown to exceed for every geometry), sensitive (the first ones, at most max_listed_boxes: [{point
-//   (domain variables), pose ([6], midpoints of its enclosure), region (the search box [[lo, hi] x variables]),
-//   component, component_name, failing_lower, failing_geometry ({parameter name: value}), passing_geometry ({name:
-//   value} or null), passing_upper (or null), passes_all, t and region_t (trajectories: s; else null)}]), max_error:
-//   {lower: [6], upper: [6], converged, argmax: [[...] per component or null]
+//   ([6] or null), singular (a certified singular pose, else null: {from, to (domain variables; det J^-1 has
+//   certified opposite signs there and the segment between them lies in the domain), from_pose, to_pose ([6]),
+//   from_t, to_t (trajectories: s; else null), geometry (null: for every admissible geometry; else {parameter name:
+//   value}, the nominal geometry, max-error mode)}), sensitive_count (uncertainty-sensitive poses found: some
+//   admissible geometry exceeds a threshold there, none was shown to exceed for every geometry), sensitive (the first
+//   ones, at most max_listed_boxes: [{point (domain variables), pose ([6], midpoints of its enclosure), region (the
+//   search box [[lo, hi] x variables]), component, component_name, failing_lower, failing_geometry ({parameter name:
+//   value}), passing_geometry ({name: value} or null), passing_upper (or null), passes_all, t and region_t
+//   (trajectories: s; else null)}]), max_error: {lower: [6], upper: [6], converged, argmax: [[...] per component or
+//   null]
 //               (trajectories: also argmax_t, the time of every argmax in s), argmax_geometry ({parameter name:
 //               value} per component, the geometry attaining lower at argmax; null entries where the bound holds
 //               for every geometry; null without geometric uncertainty)} in max-error mode,

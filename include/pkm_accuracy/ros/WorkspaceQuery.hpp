@@ -120,6 +120,11 @@ struct WorkspaceOutcome {
   double witness_t = 0.0;                ///< trajectory: time of the witness (s)
   int witness_component = -1;
   std::array<double, 6> witness_error{};
+  /// A certified singular pose between the two poses of singular_poses (x, y, z, roll, pitch, yaw each; see
+  /// verify::VerifierResult::singular); trajectory: singular_t, their times (s).
+  bool singular = false;
+  std::array<double, 12> singular_poses{};
+  std::array<double, 2> singular_t{};
   std::uint64_t boxes = 0;
   unsigned max_depth = 0;
   unsigned threads = 0;

@@ -146,6 +146,53 @@ bool gaussInverse(const IMat& a, IMat& inverse, bool pivoting) {
   return gaussSolve(a, id, inverse, pivoting);
 }
 
+namespace {
+
+/// determinantSign() without the preconditioning.
+int eliminationSign(IMat a) {
+  const int n = static_cast<int>(a.rows());
+  if (n == 0 || a.cols() != n) return 0;
+  int sign = 1;
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    double best = a(k, k).mig();
+    for (int i = k + 1; i < n; ++i) {
+      if (a(i, k).mig() > best) {
+        best = a(i, k).mig();
+        p = i;
+      }
+    }
+    if (p != k) {
+      a.row(k).swap(a.row(p));
+      sign = -sign;
+    }
+    const Interval piv = a(k, k);
+    if (piv.isEmpty() || !piv.isBounded() || piv.containsZero()) return 0;
+    if (piv.upper() < 0.0) sign = -sign;
+    for (int i = k + 1; i < n; ++i) {
+      if (a(i, k) == Interval(0.0)) continue;
+      const Interval f = a(i, k) / piv;
+      for (int j = k + 1; j < n; ++j) a(i, j) -= f * a(k, j);
+    }
+  }
+  return sign;
+}
+
+}  // namespace
+
+int determinantSign(const IMat& a) {
+  const int direct = eliminationSign(a);
+  if (direct != 0) return direct;
+  DMat c;
+  if (!approximateInverse(midpoint(a), c)) return 0;
+  const int preconditioned = eliminationSign(multiply(c, a));
+  if (preconditioned == 0) return 0;
+  IMat ci(c.rows(), c.cols());
+  for (int i = 0; i < c.rows(); ++i)
+    for (int j = 0; j < c.cols(); ++j) ci(i, j) = Interval(c(i, j));
+  return preconditioned * eliminationSign(ci);
+}
+
 bool approximateInverse(const DMat& a, DMat& inverse) {
   if (!a.allFinite()) return false;
   Eigen::PartialPivLU<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>> lu(a);

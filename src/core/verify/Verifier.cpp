@@ -5,7 +5,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
+#include <Eigen/LU>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -16,6 +18,7 @@
 
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
 
 namespace pkm_accuracy {
 namespace verify {
@@ -46,7 +49,7 @@ class AtomicDouble {
   std::atomic<double> v_;
 };
 
-enum class Stop : int { None = 0, Witness, Sensitive, BoxBudget, TimeBudget, Cancelled };
+enum class Stop : int { None = 0, Witness, Sensitive, BoxBudget, TimeBudget, Cancelled, Singular };
 
 /// A sub-box of the geometry parameters (strategy (b)) with the model restricted to it.
 struct GeometryPart {
@@ -174,6 +177,11 @@ class Run {
     if (track.useFaces) faceBoxes_.fetch_add(1, std::memory_order_relaxed);
     maybeReportProgress();
     if (options_.monotonicity && where == domain::Containment::Inside) tightenByGradient(box, bounds, active);
+    if (where == domain::Containment::Inside && !singular_.load(std::memory_order_relaxed)) {
+      bool unbounded = false;
+      for (int k = 0; k < n_; ++k) unbounded = unbounded || ((active >> k) & 1u && !(bounds.upper[k] < kInf));
+      if (unbounded) trySingular(box, in.pose);
+    }
 
     if (options_.mode == Mode::Verify) {
       bool allSafe = true;
@@ -659,6 +667,118 @@ class Run {
     }
   }
 
+  /// A box whose enclosure is unbounded may contain a singular pose. det J^-1 is evaluated in double (at the
+  /// nominal geometry) at the box's vertices and centre; if it takes both signs, its sign at the point where it is
+  /// largest and at the one where it is smallest is certified over every admissible geometry (determinantSign()
+  /// on the enclosure of J^-1 at the point's pose). Opposite certified signs, with J^-1 bounded over the whole box
+  /// (so continuous there: RobotModel::inverseJacobian) and the box inside the domain, prove that for every
+  /// admissible geometry the segment between the two points holds a pose of the domain where J^-1 is singular
+  /// (VerifierResult::singular). Verify mode then looks for a certified witness near it, by bisecting the segment on
+  /// the sign of the determinant. Either mode stops: the worst error is unbounded.
+  void trySingular(const IVec& box, const IVec& poseBox) {
+    std::vector<int> vars;
+    for (int i = 0; i < m_; ++i)
+      if (box[i].upper() > box[i].lower()) vars.push_back(i);
+    // (At most 6 varying variables: the widest relative to the domain, 65 points.)
+    if (vars.size() > 6) {
+      std::sort(vars.begin(), vars.end(), [&](int a, int b) {
+        return (box[a].upper() - box[a].lower()) / initWidth_[a] > (box[b].upper() - box[b].lower()) / initWidth_[b];
+      });
+      vars.resize(6);
+    }
+    const DVec c = domain::centreOf(box);
+    DVec pos, neg;
+    double most = 0.0, least = 0.0;
+    const unsigned count = 1u << vars.size();
+    for (unsigned mask = 0; mask <= count; ++mask) {
+      DVec t = c;
+      if (mask < count) {
+        for (std::size_t v = 0; v < vars.size(); ++v)
+          t[vars[v]] = (mask >> v) & 1u ? box[vars[v]].upper() : box[vars[v]].lower();
+      }
+      const double d = determinantAt(t);
+      if (d > most) {
+        most = d;
+        pos = t;
+      } else if (d < least) {
+        least = d;
+        neg = t;
+      }
+    }
+    if (pos.size() != m_ || neg.size() != m_) return;
+    const IMat whole = model_.inverseJacobian(poseBox);
+    for (int i = 0; i < whole.rows(); ++i)
+      for (int j = 0; j < whole.cols(); ++j)
+        if (!whole(i, j).isBounded()) return;
+    const IVec posePos = domain_.poseAt(pos), poseNeg = domain_.poseAt(neg);
+    const int sPos = enclosure::determinantSign(model_.inverseJacobian(posePos));
+    const int sNeg = enclosure::determinantSign(model_.inverseJacobian(poseNeg));
+    std::vector<double> geometry;  // empty: every admissible geometry
+    if (sPos == 0 || sNeg == 0 || sPos == sNeg) {
+      // Max-error mode maximises over the geometries too: one admissible geometry with a singular pose in the domain
+      // makes the maximum unbounded. The nominal one (the parameters' centres) is tried.
+      if (options_.mode != Mode::MaxError || params_ == 0) return;
+      std::vector<Interval> point(static_cast<std::size_t>(params_));
+      geometry.resize(static_cast<std::size_t>(params_));
+      for (int p = 0; p < params_; ++p) {
+        geometry[p] = model_.geometryParameterCentre(p);
+        point[p] = Interval(geometry[p]);
+      }
+      const std::unique_ptr<model::RobotModel> nominal = model_.restrictGeometry(point);
+      const int gPos = enclosure::determinantSign(nominal->inverseJacobian(posePos));
+      const int gNeg = enclosure::determinantSign(nominal->inverseJacobian(poseNeg));
+      if (gPos == 0 || gNeg == 0 || gPos == gNeg) return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (result_.singular) return;
+      result_.singular = true;
+      result_.singular_geometry = geometry;
+      result_.singular_from = pos;
+      result_.singular_to = neg;
+      result_.singular_pose_from = posePos;
+      result_.singular_pose_to = poseNeg;
+    }
+    singular_.store(true);
+    // (Max-error mode: the same evaluations raise the lower bounds.)
+    if (!haveWitness_) witnessNearSingularity(pos, neg, box);
+    if (options_.mode == Mode::MaxError || options_.stop_at_first_witness) requestStop(Stop::Singular);
+  }
+
+  /// det J^-1 in double at the pose of domain point t, at the nominal geometry (0 where it cannot be evaluated).
+  double determinantAt(const DVec& t) const {
+    const IVec pose = domain_.poseAt(t);
+    DVec p(pose.size());
+    for (int i = 0; i < pose.size(); ++i) p[i] = pose[i].mid();
+    const DMat a = model_.inverseJacobian(p);
+    if (!a.allFinite()) return 0.0;
+    const double d = a.determinant();
+    return std::isfinite(d) ? d : 0.0;
+  }
+
+  /// Bisects the segment from `a` to `b` (det J^-1 of opposite signs there, in double) towards the sign change and
+  /// evaluates the points it keeps, nearest first, until one is a certified witness (evaluatePoint(); in max-error
+  /// mode they raise the lower bounds) or none is left. Near a singular pose the error exceeds any representable bound,
+  /// so this succeeds unless the thresholds are beyond what double precision can certify.
+  void witnessNearSingularity(DVec a, DVec b, const IVec& region) {
+    const double signA = determinantAt(a) > 0.0 ? 1.0 : -1.0;
+    std::vector<DVec> kept;
+    for (int it = 0; it < 60; ++it) {
+      const DVec mid = 0.5 * (a + b);
+      const double d = determinantAt(mid);
+      if (d == 0.0) break;
+      if (d * signA > 0.0) {
+        a = mid;
+      } else {
+        b = mid;
+      }
+      kept.push_back(mid);
+    }
+    for (auto it = kept.rbegin(); it != kept.rend() && !haveWitness_; ++it) {
+      evaluatePoint(*it, thinBox(*it), region, true, ~0u);
+    }
+  }
+
   void raiseLower(int k, double value, const DVec& t, const std::vector<double>& geometry) {
     if (lower_[k]->raise(value)) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -881,6 +1001,12 @@ class Run {
         r.reason = UndecidedReason::None;
         msg << "UNSAFE: " << model_.componentName(r.witness_component) << " error >= " << r.witness_lower_bound
             << " > threshold " << options_.thresholds[r.witness_component] << " at a certified witness";
+        if (r.singular) msg << ", near a certified singular pose (" << singularText(r) << ")";
+      } else if (r.singular) {
+        r.verdict = Verdict::Unsafe;
+        r.reason = UndecidedReason::None;
+        msg << "UNSAFE: the domain contains a singular pose (" << singularText(r)
+            << "), near which the error exceeds any threshold";
       } else if (r.sensitive_count > 0) {
         const SensitivePose& s = r.sensitive.front();
         r.verdict = Verdict::Undecided;
@@ -916,8 +1042,11 @@ class Run {
       for (int k = 0; k < n_; ++k) {
         r.max_lower[k] = lower_[k]->load();
         r.max_upper[k] = std::max({r.max_lower[k], discarded_[k]->load(), undecidedMax_[k]->load()});
+        // (Singular: some component is unbounded, and which is not known: none keeps a finite upper bound.)
+        if (r.singular) r.max_upper[k] = kInf;
         if (r.max_upper[k] - r.max_lower[k] > tolerance(r.max_lower[k]) * (1.0 + 1e-12) + 1e-300) r.converged = false;
       }
+      if (r.singular) reason = UndecidedReason::NoThresholds;  // (the bracket is final: [lower, +inf])
       if (!hasThresholds_) {
         r.verdict = Verdict::Undecided;
         r.reason = r.converged ? UndecidedReason::NoThresholds : reason;
@@ -934,6 +1063,9 @@ class Run {
           r.witness_pose = domain_.poseAt(r.witness);
           r.witness_component = exceeded;
           r.witness_lower_bound = r.max_lower[exceeded];
+        } else if (r.singular) {
+          r.verdict = Verdict::Unsafe;
+          r.reason = UndecidedReason::None;
         } else if (allBelow) {
           r.verdict = Verdict::Safe;
         } else {
@@ -941,11 +1073,28 @@ class Run {
           r.reason = r.converged ? UndecidedReason::PrecisionLimit : reason;
         }
       }
-      msg << (r.converged ? "maximal errors bracketed to alpha" : "maximal errors NOT bracketed to alpha (")
-          << (r.converged ? "" : toString(reason) + ")") << " after " << r.stats.boxes << " boxes";
+      if (r.singular) {
+        msg << "the maximal error is unbounded: the domain contains a singular pose (" << singularText(r) << "); after "
+            << r.stats.boxes << " boxes";
+      } else {
+        msg << (r.converged ? "maximal errors bracketed to alpha" : "maximal errors NOT bracketed to alpha (")
+            << (r.converged ? "" : toString(reason) + ")") << " after " << r.stats.boxes << " boxes";
+      }
     }
     r.message = msg.str();
     return r;
+  }
+
+  /// "det J^-1 changes sign between <point> and <point>" in the domain's variables.
+  std::string singularText(const VerifierResult& r) const {
+    std::ostringstream os;
+    os << "det J^-1 has certified opposite signs, for "
+       << (r.singular_geometry.empty() ? "every admissible geometry" : "the nominal geometry") << ", at";
+    for (const DVec* t : {&r.singular_from, &r.singular_to}) {
+      os << (t == &r.singular_from ? " " : " and at ");
+      for (int i = 0; i < t->size(); ++i) os << (i == 0 ? "" : ", ") << domain_.variableName(i) << " = " << (*t)[i];
+    }
+    return os.str();
   }
 
   const model::RobotModel& model_;
@@ -989,6 +1138,7 @@ class Run {
   std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0}, faceSwitches_{0}, faceBoxes_{0};
   std::mutex mutex_, progressMutex_;
   bool haveWitness_ = false;
+  std::atomic<bool> singular_{false};  ///< result_.singular is set
   VerifierResult result_;
 };
 

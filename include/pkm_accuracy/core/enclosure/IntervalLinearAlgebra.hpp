@@ -28,6 +28,13 @@ bool gaussSolve(IMat a, IMat b, IMat& x, bool pivoting);
 /// Enclosure of { A^-1 : A in the interval matrix } (Gauss-Jordan with identity right-hand side).
 bool gaussInverse(const IMat& a, IMat& inverse, bool pivoting);
 
+/// The sign of det A certified for every point matrix in the (square) interval matrix A: +1 or -1, or 0 if it could
+/// not be certified (A may contain a singular matrix, or the method is too weak). Interval Gauss elimination with
+/// partial pivoting on the largest mignitude (det = the permutation's sign times the product of the pivots, each
+/// enclosed for every member), and where a pivot contains zero, the same on C A with C an approximate inverse of
+/// mid(A) (sign det A = sign det (C A) * sign det C, the latter on the point matrix C).
+int determinantSign(const IMat& a);
+
 /// Approximate inverse of a point matrix (double; any accuracy is fine where it is used as a preconditioner).
 /// @return false if the matrix is numerically singular.
 bool approximateInverse(const DMat& a, DMat& inverse);

@@ -38,7 +38,9 @@ class RobotModel {
   virtual DVec legLengths(const DVec& pose) const = 0;
 
   // ---- certified enclosures over every admissible geometry ------------------------------------------------------
-  /// Enclosure of { J^-1(X) : X in pose box, geometry admissible }.
+  /// Enclosure of { J^-1(X) : X in pose box, geometry admissible }. Where it is bounded, J^-1 must be continuous
+  /// over the box (for the models here: no leg length can be zero there, since the division by an interval that
+  /// contains zero is unbounded); the verifier's singularity certificate relies on it.
   virtual IMat inverseJacobian(const IVec& pose) const = 0;
   /// Enclosures of J^-1 and of its derivatives with respect to the box variables, for a pose given as a function
   /// of those variables (value + gradient), e.g. the identity map of a workspace box or a trajectory.

@@ -96,6 +96,20 @@ struct VerifierResult {
   double witness_lower_bound = 0.0;  ///< certified: worst error of that component at the witness >= this
   DVec witness_error_lower;          ///< certified lower bounds of every component at the witness
 
+  /// A certified singularity (either mode): det J^-1 has certified opposite signs, for every admissible geometry, at
+  /// the two points singular_from and singular_to of the domain (in its variables), and the domain contains the
+  /// segment between them (a box of the search inside the domain). So for every admissible geometry J^-1 is singular
+  /// at some pose of the domain on that path, and the worst error is unbounded near it: some component exceeds any
+  /// threshold at poses of the domain. Verify mode: UNSAFE (with a certified witness pose too when one was found
+  /// near the singularity; for very large thresholds none may be representable); max-error mode: max_upper is +inf
+  /// and the run stops. In max-error mode with uncertain geometry, where the signs hold for the nominal geometry
+  /// only, singular_geometry holds it (one value per parameter; the maximum over the geometries is unbounded all
+  /// the same); empty: every admissible geometry.
+  bool singular = false;
+  DVec singular_from, singular_to;            ///< in the domain's variables
+  IVec singular_pose_from, singular_pose_to;  ///< enclosures of their poses (x, y, z, roll, pitch, yaw)
+  std::vector<double> singular_geometry;
+
   // MaxError mode (also filled where known in Verify mode): certified bounds of max f_k over the domain.
   DVec max_lower;                ///< attained: f_k(max_argmax[k]) >= max_lower[k]
   DVec max_upper;                ///< max over the domain of f_k <= max_upper[k] (+inf if unbounded)
