@@ -97,19 +97,29 @@ IMat multiply(const IMat& a, const IMat& b) {
   return r;
 }
 
+namespace {
+
+/// Partial pivoting: the row (from k on) whose entry in column k has the largest mignitude (k on ties).
+int pivotRow(const IMat& a, int k) {
+  int p = k;
+  double best = a(k, k).mig();
+  for (int i = k + 1; i < a.rows(); ++i) {
+    if (a(i, k).mig() > best) {
+      best = a(i, k).mig();
+      p = i;
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
 bool gaussSolve(IMat a, IMat b, IMat& x, bool pivoting) {
   const int n = static_cast<int>(a.rows());
   const int m = static_cast<int>(b.cols());
   for (int k = 0; k < n; ++k) {
     if (pivoting) {
-      int p = k;
-      double best = a(k, k).mig();
-      for (int i = k + 1; i < n; ++i) {
-        if (a(i, k).mig() > best) {
-          best = a(i, k).mig();
-          p = i;
-        }
-      }
+      const int p = pivotRow(a, k);
       if (p != k) {
         a.row(k).swap(a.row(p));
         b.row(k).swap(b.row(p));
@@ -154,14 +164,7 @@ int eliminationSign(IMat a) {
   if (n == 0 || a.cols() != n) return 0;
   int sign = 1;
   for (int k = 0; k < n; ++k) {
-    int p = k;
-    double best = a(k, k).mig();
-    for (int i = k + 1; i < n; ++i) {
-      if (a(i, k).mig() > best) {
-        best = a(i, k).mig();
-        p = i;
-      }
-    }
+    const int p = pivotRow(a, k);
     if (p != k) {
       a.row(k).swap(a.row(p));
       sign = -sign;

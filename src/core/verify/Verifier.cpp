@@ -711,10 +711,14 @@ class Run {
       for (int j = 0; j < whole.cols(); ++j)
         if (!whole(i, j).isBounded()) return;
     const IVec posePos = domain_.poseAt(pos), poseNeg = domain_.poseAt(neg);
-    const int sPos = enclosure::determinantSign(model_.inverseJacobian(posePos));
-    const int sNeg = enclosure::determinantSign(model_.inverseJacobian(poseNeg));
+    // (Certified opposite signs at the two points for every geometry of `model`.)
+    auto opposite = [&](const model::RobotModel& model) {
+      const int a = enclosure::determinantSign(model.inverseJacobian(posePos));
+      const int b = enclosure::determinantSign(model.inverseJacobian(poseNeg));
+      return a != 0 && b != 0 && a != b;
+    };
     std::vector<double> geometry;  // empty: every admissible geometry
-    if (sPos == 0 || sNeg == 0 || sPos == sNeg) {
+    if (!opposite(model_)) {
       // Max-error mode maximises over the geometries too: one admissible geometry with a singular pose in the domain
       // makes the maximum unbounded. The nominal one (the parameters' centres) is tried.
       if (options_.mode != Mode::MaxError || params_ == 0) return;
@@ -724,10 +728,7 @@ class Run {
         geometry[p] = model_.geometryParameterCentre(p);
         point[p] = Interval(geometry[p]);
       }
-      const std::unique_ptr<model::RobotModel> nominal = model_.restrictGeometry(point);
-      const int gPos = enclosure::determinantSign(nominal->inverseJacobian(posePos));
-      const int gNeg = enclosure::determinantSign(nominal->inverseJacobian(poseNeg));
-      if (gPos == 0 || gNeg == 0 || gPos == gNeg) return;
+      if (!opposite(*model_.restrictGeometry(point))) return;
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
