@@ -2621,7 +2621,7 @@ TEST(UncertaintyVerifier, ToolPointUncertaintyConvergesAtItsVertices) {
   }
 }
 
-TEST(UncertaintyVerify, SingularWorkspaceMaximumIsUnboundedThroughTheNominalGeometry) {
+TEST(UncertaintyVerify, SingularWorkspaceThroughTheNominalGeometry) {
   // paper_40deg at +-1 mm: det J^-1 changes sign over the workspace for the nominal geometry (not certifiably for
   // every admissible one at the corner where it is positive), which is enough for the maximum over poses and
   // geometries to be unbounded. The signs are checked in MPFR with the nominal geometry.
@@ -2644,4 +2644,20 @@ TEST(UncertaintyVerify, SingularWorkspaceMaximumIsUnboundedThroughTheNominalGeom
   EXPECT_NE(a, 0);
   EXPECT_EQ(a, -b);
   for (int k = 0; k < 6; ++k) EXPECT_EQ(r.max_upper[k], std::numeric_limits<double>::infinity()) << k;
+
+  // Verify mode: not UNSAFE (not shown for every geometry), but SAFE is ruled out at once by an uncertainty-sensitive
+  // pose next to the nominal geometry's singular pose, whose error exceeds thresholds of 1 km (checked in MPFR).
+  o.mode = verify::Mode::Verify;
+  o.thresholds = DVec::Constant(6, 1e3);
+  const auto v = verify::Verifier::run(robot, ws, o);
+  ASSERT_EQ(v.verdict, verify::Verdict::Undecided) << v.message;
+  EXPECT_EQ(v.reason, verify::UndecidedReason::UncertaintySensitive) << v.message;
+  EXPECT_LT(v.stats.boxes, 1000u);
+  ASSERT_FALSE(v.sensitive.empty());
+  const verify::SensitivePose& s = v.sensitive.front();
+  EXPECT_EQ(s.failing_geometry, gc);
+  ASSERT_GE(s.component, 0);
+  EXPECT_GT(s.failing_lower, 1e3);
+  for (int i = 0; i < 6; ++i) EXPECT_TRUE(s.region[i].contains(s.point[i])) << i;
+  EXPECT_TRUE(mpGreaterEqual(mpfrWorstError(nominal, s.point)[s.component], s.failing_lower));
 }

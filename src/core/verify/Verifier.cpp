@@ -719,16 +719,26 @@ class Run {
     };
     std::vector<double> geometry;  // empty: every admissible geometry
     if (!opposite(model_)) {
-      // Max-error mode maximises over the geometries too: one admissible geometry with a singular pose in the domain
-      // makes the maximum unbounded. The nominal one (the parameters' centres) is tried.
-      if (options_.mode != Mode::MaxError || params_ == 0) return;
-      std::vector<Interval> point(static_cast<std::size_t>(params_));
-      geometry.resize(static_cast<std::size_t>(params_));
-      for (int p = 0; p < params_; ++p) {
-        geometry[p] = model_.geometryParameterCentre(p);
-        point[p] = Interval(geometry[p]);
+      // Not for every admissible geometry: the nominal one (the parameters' centres) is tried. Max-error mode
+      // maximises over the geometries too, so one admissible geometry with a singular pose in the domain makes the
+      // maximum unbounded. In verify mode it rules SAFE out without proving UNSAFE (other geometries may have no
+      // singular pose here): an uncertainty-sensitive pose is looked for near it, once per run.
+      if (params_ == 0) return;
+      std::call_once(nominalOnce_, [&] {
+        std::vector<Interval> point(static_cast<std::size_t>(params_));
+        nominalValues_.resize(static_cast<std::size_t>(params_));
+        for (int p = 0; p < params_; ++p) {
+          nominalValues_[p] = model_.geometryParameterCentre(p);
+          point[p] = Interval(nominalValues_[p]);
+        }
+        nominal_ = model_.restrictGeometry(point);
+      });
+      if (!opposite(*nominal_)) return;
+      geometry = nominalValues_;
+      if (options_.mode == Mode::Verify) {
+        if (!nominalSingular_.exchange(true)) sensitiveNearSingularity(pos, neg, box, *nominal_, geometry);
+        return;
       }
-      if (!opposite(*model_.restrictGeometry(point))) return;
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -762,6 +772,15 @@ class Run {
   /// mode they raise the lower bounds) or none is left. Near a singular pose the error exceeds any representable bound,
   /// so this succeeds unless the thresholds are beyond what double precision can certify.
   void witnessNearSingularity(DVec a, DVec b, const IVec& region) {
+    const std::vector<DVec> kept = towardsSignChange(a, b);
+    for (auto it = kept.rbegin(); it != kept.rend() && !haveWitness_; ++it) {
+      evaluatePoint(*it, thinBox(*it), region, true, ~0u);
+    }
+  }
+
+  /// The points of the bisection of the segment from `a` to `b` towards the sign change of det J^-1 (double, nominal
+  /// geometry; opposite signs at a and b), in the order they were found (the last nearest to the sign change).
+  std::vector<DVec> towardsSignChange(DVec a, DVec b) const {
     const double signA = determinantAt(a) > 0.0 ? 1.0 : -1.0;
     std::vector<DVec> kept;
     for (int it = 0; it < 60; ++it) {
@@ -775,8 +794,40 @@ class Run {
       }
       kept.push_back(mid);
     }
-    for (auto it = kept.rbegin(); it != kept.rend() && !haveWitness_; ++it) {
-      evaluatePoint(*it, thinBox(*it), region, true, ~0u);
+    return kept;
+  }
+
+  /// Verify mode: det J^-1 has certified opposite signs at `a` and `b` for the admissible geometry `model` (one
+  /// value per parameter in `values`), not for every one. The segment is bisected on the sign of the determinant
+  /// (nominal geometry, double), and the points kept are evaluated with that geometry, nearest first: the first
+  /// where a component's certified error exceeds its threshold is recorded as an uncertainty-sensitive pose (that
+  /// geometry fails there; no pose was shown to fail for every geometry).
+  void sensitiveNearSingularity(DVec a, DVec b, const IVec& region, const model::RobotModel& model,
+                                const std::vector<double>& values) {
+    const std::vector<DVec> kept = towardsSignChange(a, b);
+    for (auto it = kept.rbegin(); it != kept.rend(); ++it) {
+      const IVec pose = domain_.poseAt(*it);
+      IVec f;
+      if (domain_.classify(thinBox(*it)) != domain::Containment::Inside || !enclosure::errorAtPose(model, pose, f)) {
+        continue;
+      }
+      for (int k = 0; k < n_; ++k) {
+        if (!(f[k].lower() > options_.thresholds[k])) continue;
+        SensitivePose s;
+        s.point = *it;
+        s.pose = pose;
+        s.region = region;
+        s.component = k;
+        s.failing_geometry = values;
+        s.failing_lower = f[k].lower();
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          ++result_.sensitive_count;
+          if (result_.sensitive.size() < options_.max_recorded_boxes) result_.sensitive.push_back(std::move(s));
+        }
+        if (options_.stop_at_first_witness) requestStop(Stop::Sensitive);
+        return;
+      }
     }
   }
 
@@ -1139,7 +1190,12 @@ class Run {
   std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0}, faceSwitches_{0}, faceBoxes_{0};
   std::mutex mutex_, progressMutex_;
   bool haveWitness_ = false;
-  std::atomic<bool> singular_{false};  ///< result_.singular is set
+  std::atomic<bool> singular_{false};         ///< result_.singular is set
+  std::atomic<bool> nominalSingular_{false};  ///< verify mode: sensitiveNearSingularity() was tried
+  /// The model at the nominal geometry (every parameter at its centre; built by trySingular() when first needed).
+  std::once_flag nominalOnce_;
+  std::unique_ptr<model::RobotModel> nominal_;
+  std::vector<double> nominalValues_;
   VerifierResult result_;
 };
 
