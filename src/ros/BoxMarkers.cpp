@@ -160,6 +160,19 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
     array.markers.push_back(m);
   }
 
+  // A certified singular pose: the segment it lies on (the positions of its two ends; query frame).
+  if (o.singular) {
+    visualization_msgs::Marker m = marker(kMarkerNsSingular, 0, visualization_msgs::Marker::LINE_LIST);
+    const Eigen::Vector3d from(o.singular_poses[0], o.singular_poses[1], o.singular_poses[2]);
+    const Eigen::Vector3d to(o.singular_poses[6], o.singular_poses[7], o.singular_poses[8]);
+    placement.place(m, from);
+    m.scale.x = 6e-3 * unit;
+    m.color = color(1.0f, 0.0f, 0.6f, 1.0f);
+    m.points.push_back(point(Eigen::Vector3d::Zero()));
+    m.points.push_back(point(to - from));
+    array.markers.push_back(m);
+  }
+
   // The first uncertainty-sensitive pose and its region (the search box it was found in).
   if (o.sensitive_poses > 0 && o.sensitive.component >= 0) {
     const SensitiveSummary& sp = o.sensitive;

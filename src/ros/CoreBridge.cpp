@@ -175,9 +175,13 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
 
   if (r.singular && r.singular_pose_from.size() == 6 && r.singular_pose_to.size() == 6) {
     out.singular = true;
+    // (Like the witness: a workspace's variables are its poses in the request's frame; a trajectory's poses are the
+    // midpoints of the verifier's enclosures, in the base frame.)
+    const bool variables = !q.is_trajectory && r.singular_from.size() == 6 && r.singular_to.size() == 6;
     for (int i = 0; i < 6; ++i) {
-      out.singular_poses[static_cast<std::size_t>(i)] = r.singular_pose_from[i].mid();
-      out.singular_poses[static_cast<std::size_t>(i) + 6] = r.singular_pose_to[i].mid();
+      const auto k = static_cast<std::size_t>(i);
+      out.singular_poses[k] = variables ? r.singular_from[i] : r.singular_pose_from[i].mid();
+      out.singular_poses[k + 6] = variables ? r.singular_to[i] : r.singular_pose_to[i].mid();
     }
     if (q.is_trajectory && r.singular_from.size() >= 1 && r.singular_to.size() >= 1) {
       out.singular_t[0] = q.trajectory.timeOf(r.singular_from[0]);

@@ -321,6 +321,28 @@ TEST(Action, BoxesShowTheWorkspaceAndTheWitness) {
   EXPECT_EQ(witness[0].pose.position.z, r->witness_pose[2]);
 }
 
+TEST(Action, BoxesShowTheSingularSegment) {
+  // paper_40deg contains singular poses: with thresholds no pose can be certified above, UNSAFE through the singular
+  // segment, drawn in namespace "singular" between the positions of singular_poses.
+  ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
+  Boxes boxes;
+  const auto req = boxRequest(0.15, 0.45, 0.50, k40deg, {1e15, 1e15, 1e15, 1e15, 1e15, 1e15}, "verify");
+  ASSERT_EQ(client().sendGoalAndWait(goalOf(req), ros::Duration(20.0)), State::SUCCEEDED);
+  const auto r = client().getResult();
+  ASSERT_EQ(r->verdict, "UNSAFE") << r->message;
+  ASSERT_TRUE(r->singular) << r->message;
+  const auto a = boxes.forJob(r->job_id);
+  ASSERT_TRUE(a) << "no ~boxes for job " << r->job_id;
+  const auto line = inNs(*a, "singular");
+  ASSERT_EQ(line.size(), 1u);
+  EXPECT_EQ(line[0].type, visualization_msgs::Marker::LINE_LIST);
+  ASSERT_EQ(line[0].points.size(), 2u);
+  EXPECT_EQ(line[0].pose.position.x, r->singular_poses[0]);
+  EXPECT_EQ(line[0].pose.position.z, r->singular_poses[2]);
+  EXPECT_NEAR(line[0].pose.position.x + line[0].points[1].x, r->singular_poses[6], 1e-12);
+  EXPECT_NEAR(line[0].pose.position.z + line[0].points[1].z, r->singular_poses[8], 1e-12);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -24,6 +24,9 @@ constexpr const char* kMarkerNsWitness = "witness";          ///< id 0: SPHERE a
 /// Anchor uncertainty, reason uncertainty_sensitive: id 0: SPHERE at the first uncertainty-sensitive pose's position,
 /// id 1: CUBE, the position projection of the search box it was found in.
 constexpr const char* kMarkerNsSensitive = "sensitive";
+/// A certified singular pose (the response's `singular`): id 0: LINE_LIST, the segment between the positions of the
+/// two poses of singular_poses, on which J^-1 is singular.
+constexpr const char* kMarkerNsSingular = "singular";
 constexpr const char* kMarkerNsLabel = "label";  ///< id 0: TEXT_VIEW_FACING, "job N: VERDICT ..."
 
 /// The markers of a finished job: first a DELETEALL (clears the previous job's), then the markers above. Poses of
