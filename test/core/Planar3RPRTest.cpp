@@ -2,6 +2,7 @@
 // three degrees of freedom: against an independent implementation of the inverse kinematics (leg lengths from
 // Eigen's Rotation2D), central finite differences and dense double-precision sampling.
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -428,6 +429,30 @@ TEST(PlanarVerifier, SafeTenPercentAboveSampledMaximaUnsafeFivePercentBelow) {
   EXPECT_GT(unsafe.witness_lower_bound, o.thresholds[k]);
   EXPECT_LE(unsafe.witness_lower_bound, robot.worstErrorAt(unsafe.witness)[k] * (1 + 1e-9));
   EXPECT_NE(unsafe.message.find(robot.componentName(k)), std::string::npos) << unsafe.message;
+}
+
+TEST(PlanarVerifier, SingularWorkspaceIsUnsafeForAnyThreshold) {
+  // The legs of this geometry meet at the origin at theta = 0: a singular pose inside the workspace, certified
+  // through a sign change of det J^-1 (checked here in double at the two ends) whatever the thresholds.
+  const model::Planar3RPR robot(concurrentLegsGeometry());
+  const domain::PlanarWorkspace ws =
+      domain::PlanarWorkspace::fromRanges({Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.02, 0.02)});
+  verify::VerifierOptions o;
+  o.thresholds = DVec::Constant(3, 1e15);
+  o.time_limit_s = 20.0;
+  const auto r = verify::Verifier::run(robot, ws, o);
+  ASSERT_EQ(r.verdict, Verdict::Unsafe) << r.message;
+  ASSERT_TRUE(r.singular) << r.message;
+  ASSERT_EQ(r.singular_from.size(), 3);
+  ASSERT_EQ(r.singular_to.size(), 3);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(ws.initialBox()[i].contains(r.singular_from[i])) << i;
+    EXPECT_TRUE(ws.initialBox()[i].contains(r.singular_to[i])) << i;
+  }
+  const double a = robot.inverseJacobian(DVec(r.singular_from)).determinant();
+  const double b = robot.inverseJacobian(DVec(r.singular_to)).determinant();
+  EXPECT_LT(a * b, 0.0) << a << " " << b;
+  EXPECT_LT(r.stats.boxes, 1000u);
 }
 
 TEST(PlanarVerifier, MaxErrorBracketsSampledMaxima) {
