@@ -100,11 +100,11 @@ struct VerifierResult {
   /// the two points singular_from and singular_to of the domain (in its variables), and the domain contains the
   /// segment between them (a box of the search inside the domain). So for every admissible geometry J^-1 is singular
   /// at some pose of the domain on that path, and the worst error is unbounded near it: ||J|| grows without bound
-  /// there and every sensor bound e_j is > 0, so some component exceeds any threshold at poses of the domain. Verify mode: UNSAFE (with a certified witness pose too when one was found
-  /// near the singularity; for very large thresholds none may be representable); max-error mode: max_upper is +inf
-  /// and the run stops. In max-error mode with uncertain geometry, where the signs hold for the nominal geometry
-  /// only, singular_geometry holds it (one value per parameter; the maximum over the geometries is unbounded all
-  /// the same); empty: every admissible geometry.
+  /// there and every sensor bound e_j is > 0, so some component exceeds any threshold at poses of the domain. Verify
+  /// mode: UNSAFE (with a certified witness pose too when one was found near the singularity; for very large thresholds
+  /// none may be representable); max-error mode: max_upper is +inf and the run stops. In max-error mode with uncertain
+  /// geometry, where the signs hold for the nominal geometry only, singular_geometry holds it (one value per parameter;
+  /// the maximum over the geometries is unbounded all the same); empty: every admissible geometry.
   bool singular = false;
   DVec singular_from, singular_to;            ///< in the domain's variables
   IVec singular_pose_from, singular_pose_to;  ///< enclosures of their poses (x, y, z, roll, pitch, yaw)
