@@ -643,12 +643,7 @@ class Run {
           s.passes_all = true;
           for (int j = 0; j < n_; ++j) s.passes_all = s.passes_all && fp[j].upper() <= options_.thresholds[j];
         }
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          ++result_.sensitive_count;
-          if (result_.sensitive.size() < options_.max_recorded_boxes) result_.sensitive.push_back(std::move(s));
-        }
-        if (options_.stop_at_first_witness && mayStop) requestStop(Stop::Sensitive);
+        recordSensitive(std::move(s), mayStop);
         return;
       }
     } else {
@@ -820,15 +815,21 @@ class Run {
         s.component = k;
         s.failing_geometry = values;
         s.failing_lower = f[k].lower();
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          ++result_.sensitive_count;
-          if (result_.sensitive.size() < options_.max_recorded_boxes) result_.sensitive.push_back(std::move(s));
-        }
-        if (options_.stop_at_first_witness) requestStop(Stop::Sensitive);
+        recordSensitive(std::move(s), true);
         return;
       }
     }
+  }
+
+  /// Counts an uncertainty-sensitive pose, keeps it among the first recorded, and ends the search if asked to stop
+  /// at the first evidence (`mayStop`).
+  void recordSensitive(SensitivePose&& s, bool mayStop) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++result_.sensitive_count;
+      if (result_.sensitive.size() < options_.max_recorded_boxes) result_.sensitive.push_back(std::move(s));
+    }
+    if (options_.stop_at_first_witness && mayStop) requestStop(Stop::Sensitive);
   }
 
   void raiseLower(int k, double value, const DVec& t, const std::vector<double>& geometry) {
