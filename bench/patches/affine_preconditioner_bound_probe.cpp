@@ -103,8 +103,34 @@ int main(int argc, char** argv) {
       }
     DMat magE = E0.cwiseAbs();
     for (int m = 0; m < 6; ++m) magE += L[m].cwiseAbs() * dev[m];
+    std::array<DMat, MatrixHessian::kPairs> chm, chl, chq;
+    const bool haveCH = robot.preconditionedHessianMagnitude(box, C0, chm, &chl, &chq);
+    DMat magE2 = magE;
     for (int i = 0; i < 6; ++i)
       for (int m = 0; m < 6; ++m) magE += (Qm[i][m].cwiseAbs() + Qr[i][m]) * dev[i] * dev[m];
+    for (int i = 0; i < 6; ++i)
+      for (int m = 0; m < 6; ++m) {
+        const int p = MatrixHessian::index(i, m);
+        magE2 += ((K[i] * G[m]).cwiseAbs() + 0.5 * (chm[p] + chl[p] / 3.0 + chq[p] / 6.0)) * dev[i] * dev[m];
+      }
+    for (int i = 0; i < 6; ++i) magE2 += K[i].cwiseAbs() * magH * dev[i];
+    static std::vector<double> e2;
+    e2.push_back(magE2.rowwise().sum().maxCoeff());
+    if (!haveCH) std::printf("no CH\n");
+    static std::vector<double> kg;
+    {
+      DMat t = DMat::Zero(6, 6);
+      for (int i = 0; i < 6; ++i)
+        for (int m = 0; m < 6; ++m) t += (K[i] * G[m]).cwiseAbs() * dev[i] * dev[m];
+      kg.push_back(t.rowwise().sum().maxCoeff());
+    }
+    if (cnt > 0 && e2.size() % 50 == 0) {
+      auto v = e2;
+      std::sort(v.begin(), v.end());
+      auto w = kg;
+      std::sort(w.begin(), w.end());
+      std::printf("  |E'| with affine |C H|: rowsum med %.3f; |K G| part med %.3f\n", v[v.size() / 2], w[w.size() / 2]);
+    }
     for (int i = 0; i < 6; ++i) magE += K[i].cwiseAbs() * magH * dev[i];
     // sampled J columns and linearisation error
     DMat trueNL = DMat::Zero(6, 6), maxAbsJ = DMat::Zero(6, 6);
