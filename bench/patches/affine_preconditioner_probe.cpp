@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 #include "BenchCommon.hpp"
+#include "DumpedBoxes.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
 using namespace pkm_accuracy;
@@ -18,24 +19,11 @@ int main(int argc, char** argv) {
   const int d0 = std::atoi(argv[2]), d1 = std::atoi(argv[3]), every = std::atoi(argv[4]);
   const io::RobotFile rf = io::loadRobotFile("config/ref6.yaml");
   const model::GoughPlatform robot(rf.geometry);
-  std::ifstream in(argv[1]);
-  std::string line;
-  int cnt = 0;
   std::vector<double> nS, nE, nSSy, nEv;
   std::mt19937_64 rng(5);
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    int d;
-    unsigned a;
-    s >> tag >> d >> a;
-    if (tag != "BOX" || d < d0 || d > d1) continue;
-    IVec box(6);
-    for (int i = 0; i < 6; ++i) {
-      double lo, hi;
-      s >> lo >> hi;
-      box[i] = Interval(lo, hi);
-    }
+  int cnt = 0;
+  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1)) {
+    const IVec& box = dumped.box;
     if (cnt++ % every) continue;
     DVec t0(6);
     for (int i = 0; i < 6; ++i) t0[i] = box[i].mid();

@@ -4,13 +4,15 @@
 // increase bounds) and without, against sampled maxima over the box (bench::sampledMaximaOverGeometry, 30 random
 // poses + corners). Prints "G depth k bound_h/thr bound_0/thr sampled_h/thr sampled_0/thr dumped/thr" on stderr.
 // Build against the core library (not built by CMake):
-//   g++ -O2 -std=c++17 -I bench -I include -I /usr/include/eigen3 -I $PKM_WS/devel/include increase_probe.cpp \
+//   g++ -O2 -std=c++17 -I bench -I bench/patches -I include -I /usr/include/eigen3 -I $PKM_WS/devel/include \
+//     bench/patches/increase_probe.cpp \
 //     -L $PKM_WS/devel/lib -lpkm_accuracy_io -lpkm_accuracy_core -Wl,-rpath,$PKM_WS/devel/lib -ltbb -lyaml-cpp
 // Usage: increase_probe DUMP h d0 d1 every thr_1 .. thr_6
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include "BenchCommon.hpp"
+#include "DumpedBoxes.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
@@ -26,28 +28,12 @@ int main(int argc, char** argv) {
   const model::GoughPlatform robotH(unc), robot0(rf.geometry);
   double thr[6];
   for (int k = 0; k < 6; ++k) thr[k] = std::atof(argv[6 + k]);
-  std::ifstream in(argv[1]);
-  std::string line;
   int cnt = 0;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    int d;
-    unsigned a;
-    s >> tag >> d >> a;
-    if (tag != "BOX" || d < d0 || d > d1) continue;
-    IVec box(6);
-    for (int i = 0; i < 6; ++i) {
-      double lo, hi;
-      s >> lo >> hi;
-      box[i] = Interval(lo, hi);
-    }
-    double r[6];
-    for (int k = 0; k < 6; ++k) {
-      std::string t;
-      s >> t;
-      r[k] = std::strtod(t.c_str(), nullptr);
-    }
+  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1)) {
+    const unsigned a = dumped.active;
+    const IVec& box = dumped.box;
+    const double* r = dumped.ratio;
+    const int d = dumped.depth;
     unsigned fails = 0;
     for (int k = 0; k < 6; ++k)
       if (((a >> k) & 1) && r[k] > 1 && r[k] < 50) fails |= 1u << k;
