@@ -9,6 +9,9 @@
 #include <vector>
 
 #include "pkm_accuracy/core/Types.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
+#include "pkm_accuracy/core/model/RobotModel.hpp"
 
 namespace pkm_accuracy {
 namespace bench {
@@ -20,9 +23,11 @@ struct DumpedBox {
   double ratio[6] = {0, 0, 0, 0, 0, 0};  ///< bound / threshold per component (inf where unbounded)
 };
 
-/// The dumped boxes of depths d0 to d1, in file order.
-inline std::vector<DumpedBox> readDumpedBoxes(const char* path, int d0, int d1) {
+/// The dumped boxes of depths d0 to d1, in file order; with `every` > 1 only every every-th of them (the first, then
+/// every-th after it).
+inline std::vector<DumpedBox> readDumpedBoxes(const char* path, int d0, int d1, int every = 1) {
   std::vector<DumpedBox> out;
+  int seen = 0;
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line)) {
@@ -30,7 +35,7 @@ inline std::vector<DumpedBox> readDumpedBoxes(const char* path, int d0, int d1) 
     std::string tag;
     DumpedBox b;
     s >> tag >> b.depth >> b.active;
-    if (tag != "BOX" || b.depth < d0 || b.depth > d1) continue;
+    if (tag != "BOX" || b.depth < d0 || b.depth > d1 || seen++ % every != 0) continue;
     b.box.resize(6);
     for (int i = 0; i < 6; ++i) {
       double lo, hi;
@@ -45,6 +50,21 @@ inline std::vector<DumpedBox> readDumpedBoxes(const char* path, int d0, int d1) 
     out.push_back(b);
   }
   return out;
+}
+
+/// AffineInverseAction's expansion over a box of `ws` (exact geometry) and its affine forms of the columns of J, i.e.
+/// of N C with C the expansion's preconditioner. @return false where either cannot be built.
+inline bool formsOfJacobianColumns(const model::RobotModel& robot, const domain::Workspace& ws, const IVec& box,
+                                   enclosure::AffineInverseAction& act,
+                                   enclosure::AffineInverseAction::AffineMatrix& nv) {
+  enclosure::BoxInput bi;
+  ws.poseView(box, true, bi);
+  if (!act.prepare(robot, bi, false)) return false;
+  const DMat& c = act.preconditioner();
+  IMat cols(c.rows(), c.cols());
+  for (int j = 0; j < c.cols(); ++j)
+    for (int l = 0; l < c.rows(); ++l) cols(l, j) = Interval(c(l, j));
+  return act.apply(cols, nv, true);
 }
 
 }  // namespace bench

@@ -36,20 +36,12 @@ int main(int argc, char** argv) {
   const model::GoughPlatform robot(rf.geometry);
   std::vector<double> rNewOld, rNewTrue, rOldTrue, rowK;
   std::mt19937_64 rng(5);
-  int cnt = 0;
-  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1)) {
+  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1, every)) {
     const IVec& box = dumped.box;
-    if (cnt++ % every) continue;
-    enclosure::BoxInput bi;
-    ws.poseView(box, true, bi);
     enclosure::AffineInverseAction act;
-    if (!act.prepare(robot, bi, false)) continue;
-    const DMat C0 = act.preconditioner();
-    IMat cols(6, 6);
-    for (int j = 0; j < 6; ++j)
-      for (int l = 0; l < 6; ++l) cols(l, j) = Interval(C0(l, j));
     enclosure::AffineInverseAction::AffineMatrix nv;
-    if (!act.apply(cols, nv, true)) continue;
+    if (!bench::formsOfJacobianColumns(robot, ws, box, act, nv)) continue;
+    const DMat C0 = act.preconditioner();
     DVec t0(6), dev(6);
     IVec thin(6);
     for (int i = 0; i < 6; ++i) {
@@ -112,7 +104,7 @@ int main(int argc, char** argv) {
         for (int m = 0; m < 6; ++m) t += (K[i] * G[m]).cwiseAbs() * dev[i] * dev[m];
       kg.push_back(t.rowwise().sum().maxCoeff());
     }
-    if (cnt > 0 && e2.size() % 50 == 0) {
+    if (e2.size() % 50 == 0) {
       auto v = e2;
       std::sort(v.begin(), v.end());
       auto w = kg;

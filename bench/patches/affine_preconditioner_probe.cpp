@@ -19,12 +19,10 @@ int main(int argc, char** argv) {
   const int d0 = std::atoi(argv[2]), d1 = std::atoi(argv[3]), every = std::atoi(argv[4]);
   const io::RobotFile rf = io::loadRobotFile("config/ref6.yaml");
   const model::GoughPlatform robot(rf.geometry);
-  std::vector<double> nS, nE, nSSy, nEv;
+  std::vector<double> nS, nE;
   std::mt19937_64 rng(5);
-  int cnt = 0;
-  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1)) {
+  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1, every)) {
     const IVec& box = dumped.box;
-    if (cnt++ % every) continue;
     DVec t0(6);
     for (int i = 0; i < 6; ++i) t0[i] = box[i].mid();
     const DMat A0 = robot.inverseJacobian(t0);
@@ -37,7 +35,7 @@ int main(int argc, char** argv) {
       b[i] -= st;
       G[i] = (robot.inverseJacobian(a) - robot.inverseJacobian(b)) / (2 * st);
     }
-    double mS = 0, mE = 0, mSSy = 0, mEv = 0;
+    double mS = 0, mE = 0;
     for (int k = 0; k < 300; ++k) {
       DVec t = bench::randomPoint(box, rng);
       if (k < 64)

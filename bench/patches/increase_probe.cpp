@@ -3,10 +3,10 @@
 // `every`-th), the second_order enclosure with the geometry +-h (decomposed form; NOT=1: no targets, i.e. full
 // increase bounds) and without, against sampled maxima over the box (bench::sampledMaximaOverGeometry, 30 random
 // poses + corners). Prints "G depth k bound_h/thr bound_0/thr sampled_h/thr sampled_0/thr dumped/thr" on stderr.
-// Build against the core library (not built by CMake):
-//   g++ -O2 -std=c++17 -I bench -I bench/patches -I include -I /usr/include/eigen3 -I $PKM_WS/devel/include \
-//     bench/patches/increase_probe.cpp \
-//     -L $PKM_WS/devel/lib -lpkm_accuracy_io -lpkm_accuracy_core -Wl,-rpath,$PKM_WS/devel/lib -ltbb -lyaml-cpp
+// Build against the core library (not built by CMake), from the repository root, on one line:
+//   g++ -O2 -std=c++17 -I bench -I bench/patches -I include -I /usr/include/eigen3 -I $PKM_WS/devel/include
+//   bench/patches/increase_probe.cpp -L $PKM_WS/devel/lib -lpkm_accuracy_io -lpkm_accuracy_core
+//   -Wl,-rpath,$PKM_WS/devel/lib -ltbb -lyaml-cpp
 // Usage: increase_probe DUMP h d0 d1 every thr_1 .. thr_6
 #include <cstdio>
 #include <fstream>

@@ -21,22 +21,14 @@ int main(int argc, char** argv) {
   const model::GoughPlatform robot(rf.geometry);
   std::vector<double> rR1, rR2, rB, rC, rSSY, rSY, rW, sNorm, rS, rS2, radShare;
   std::mt19937_64 rng(5);
-  int cnt = 0;
-  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1)) {
+  for (const bench::DumpedBox& dumped : bench::readDumpedBoxes(argv[1], d0, d1, every)) {
     const IVec& box = dumped.box;
-    if (cnt++ % every) continue;
-    enclosure::BoxInput bi;
-    ws.poseView(box, true, bi);
     enclosure::AffineInverseAction act;
-    if (!act.prepare(robot, bi, false)) continue;
-    const DMat& C = act.preconditioner();
-    IMat cols(6, 6);
-    for (int j = 0; j < 6; ++j)
-      for (int l = 0; l < 6; ++l) cols(l, j) = Interval(C(l, j));
     enclosure::AffineInverseAction::AffineMatrix nv;
-    if (!act.apply(cols, nv, true)) continue;
+    if (!bench::formsOfJacobianColumns(robot, ws, box, act, nv)) continue;
+    const DMat& C = act.preconditioner();
     DMat mxS = DMat::Zero(6, 6), mxS2 = DMat::Zero(6, 6);
-    DMat mxSSY = DMat::Zero(6, 6), mxSY = DMat::Zero(6, 6), mxW = DMat::Zero(6, 6);
+    DMat mxSSY = DMat::Zero(6, 6), mxSY = DMat::Zero(6, 6);
     for (int sIdx = 0; sIdx < 300; ++sIdx) {
       DVec t = bench::randomPoint(box, rng);
       if (sIdx < 64)
