@@ -5,8 +5,9 @@
 #include <utility>
 
 #include "pkm_accuracy/core/Exceptions.hpp"
-#include "pkm_accuracy/core/domain/TransformedWorkspace.hpp"
+#include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
@@ -42,25 +43,35 @@ domain::Workspace toWorkspace(const WorkspaceSpec& spec) {
   return domain::Workspace(toRegion(spec.position), angles);
 }
 
-std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query) {
-  if (query.is_trajectory) {
-    const TrajectorySpec& spec = query.trajectory;
-    std::vector<domain::WaypointTrajectory::Waypoint> waypoints(spec.times.size());
-    for (std::size_t i = 0; i < waypoints.size() && i < spec.poses.size(); ++i) {
-      waypoints[i].t = spec.times[i];
-      waypoints[i].pose = spec.poses[i];
-    }
-    return std::make_unique<domain::WaypointTrajectory>(
-        std::move(waypoints), spec.slerp ? domain::WaypointTrajectory::Interpolation::Slerp
-                                         : domain::WaypointTrajectory::Interpolation::LinearRpy);
+namespace {
+
+/// The trajectory of a query, in its frame_id.
+std::unique_ptr<domain::WaypointTrajectory> toTrajectory(const TrajectorySpec& spec) {
+  std::vector<domain::WaypointTrajectory::Waypoint> waypoints(spec.times.size());
+  for (std::size_t i = 0; i < waypoints.size() && i < spec.poses.size(); ++i) {
+    waypoints[i].t = spec.times[i];
+    waypoints[i].pose = spec.poses[i];
   }
-  domain::Workspace workspace = toWorkspace(query.workspace);
-  if (!query.has_transform) return std::make_unique<domain::Workspace>(std::move(workspace));
+  return std::make_unique<domain::WaypointTrajectory>(
+      std::move(waypoints), spec.slerp ? domain::WaypointTrajectory::Interpolation::Slerp
+                                       : domain::WaypointTrajectory::Interpolation::LinearRpy);
+}
+
+}  // namespace
+
+std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query) {
+  std::unique_ptr<domain::Domain> inFrame;
+  if (query.is_trajectory) {
+    inFrame = toTrajectory(query.trajectory);
+  } else {
+    inFrame = std::make_unique<domain::Workspace>(toWorkspace(query.workspace));
+  }
+  if (!query.has_transform) return inFrame;
   domain::RigidTransform t;
   t.rotation = query.rotation;
   t.translation = query.translation;
   try {
-    return std::make_unique<domain::TransformedWorkspace>(std::move(workspace), t);
+    return std::make_unique<domain::TransformedDomain>(std::move(inFrame), t);
   } catch (const InvalidArgument& e) {
     throw InvalidArgument("frame_id \"" + query.frame_id + "\": " + e.what());
   }
@@ -150,13 +161,24 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     if (r.witness_error_lower.size() == 6) copy6(r.witness_error_lower, out.lower_bound);
   }
 
+  // A trajectory's pose at u, for the response: the midpoint of the verifier's certified enclosure of the base-frame
+  // pose there, or, for waypoints in another frame, of the trajectory's own pose in that frame.
+  const std::unique_ptr<domain::WaypointTrajectory> inFrame =
+      q.is_trajectory && q.has_transform ? toTrajectory(q.trajectory) : nullptr;
+  const auto trajectoryPose = [&inFrame](double u, const IVec& basePose) {
+    const IVec pose = inFrame ? inFrame->poseAt(DVec::Constant(1, u)) : basePose;
+    std::array<double, 6> out{};
+    for (int k = 0; k < 6 && k < pose.size(); ++k) out[static_cast<std::size_t>(k)] = pose[k].mid();
+    return out;
+  };
+
   const bool witness = q.is_trajectory ? r.witness.size() == 1 && r.witness_pose.size() == 6 : r.witness.size() == 6;
   if (r.verdict == verify::Verdict::Unsafe && witness && r.witness_component >= 0) {
     out.has_witness = true;
     if (q.is_trajectory) {
-      // The variable is u; the pose is the midpoint of the verifier's certified enclosure of the pose there.
+      // The variable is u.
       out.witness_t = q.trajectory.timeOf(r.witness[0]);
-      for (int k = 0; k < 6; ++k) out.witness_pose[static_cast<std::size_t>(k)] = r.witness_pose[k].mid();
+      out.witness_pose = trajectoryPose(r.witness[0], r.witness_pose);
     } else {
       copy6(r.witness, out.witness_pose);
     }
@@ -175,17 +197,27 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
 
   if (r.singular && r.singular_pose_from.size() == 6 && r.singular_pose_to.size() == 6) {
     out.singular = true;
-    // (Like the witness: a workspace's variables are its poses in the request's frame; a trajectory's poses are the
-    // midpoints of the verifier's enclosures, in the base frame.)
-    const bool variables = !q.is_trajectory && r.singular_from.size() == 6 && r.singular_to.size() == 6;
+    // (Like the witness: a workspace's variables are its poses in the request's frame; a trajectory's poses are
+    // trajectoryPose()'s.)
+    const bool variables =
+        r.singular_from.size() == (q.is_trajectory ? 1 : 6) && r.singular_to.size() == r.singular_from.size();
+    std::array<double, 6> from{}, to{};
     for (int i = 0; i < 6; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      out.singular_poses[k] = variables ? r.singular_from[i] : r.singular_pose_from[i].mid();
-      out.singular_poses[k + 6] = variables ? r.singular_to[i] : r.singular_pose_to[i].mid();
+      from[static_cast<std::size_t>(i)] = r.singular_pose_from[i].mid();
+      to[static_cast<std::size_t>(i)] = r.singular_pose_to[i].mid();
     }
-    if (q.is_trajectory && r.singular_from.size() >= 1 && r.singular_to.size() >= 1) {
+    if (variables && q.is_trajectory) {
+      from = trajectoryPose(r.singular_from[0], r.singular_pose_from);
+      to = trajectoryPose(r.singular_to[0], r.singular_pose_to);
       out.singular_t[0] = q.trajectory.timeOf(r.singular_from[0]);
       out.singular_t[1] = q.trajectory.timeOf(r.singular_to[0]);
+    } else if (variables) {
+      copy6(r.singular_from, from);
+      copy6(r.singular_to, to);
+    }
+    for (std::size_t k = 0; k < 6; ++k) {
+      out.singular_poses[k] = from[k];
+      out.singular_poses[k + 6] = to[k];
     }
   }
 
@@ -215,9 +247,13 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     s.passing_upper = p.passing_geometry.empty() ? 0.0 : p.passing_upper;
     s.passes_all = !p.passing_geometry.empty() && p.passes_all;
     if (q.is_trajectory) {
-      // As the witness: the variable is u, the pose the midpoint of the verifier's enclosure of the pose there.
-      if (p.point.size() >= 1) s.t = q.trajectory.timeOf(p.point[0]);
-      for (int k = 0; k < 6 && k < p.pose.size(); ++k) s.pose[static_cast<std::size_t>(k)] = p.pose[k].mid();
+      // As the witness: the variable is u.
+      if (p.point.size() >= 1) {
+        s.t = q.trajectory.timeOf(p.point[0]);
+        s.pose = trajectoryPose(p.point[0], p.pose);
+      } else {
+        for (int k = 0; k < 6 && k < p.pose.size(); ++k) s.pose[static_cast<std::size_t>(k)] = p.pose[k].mid();
+      }
       if (p.region.size() >= 1 && !p.region[0].isEmpty()) {
         s.t_start = q.trajectory.timeOf(p.region[0].lower());
         s.t_end = q.trajectory.timeOf(p.region[0].upper());

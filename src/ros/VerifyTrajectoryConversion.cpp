@@ -74,11 +74,8 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
                  WorkspaceQuery& out, std::string& error) {
   WorkspaceQuery q;
   q.is_trajectory = true;
-  if (!req.frame_id.empty() && req.frame_id != base_frame) {
-    error = "frame_id: expected \"\" or the base frame \"" + base_frame +
-            "\" (waypoints in other frames are not supported by /verify_trajectory yet), got \"" + req.frame_id + "\"";
-    return false;
-  }
+  // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
+  q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
   if (!fields::mode(req.mode, q.mode, error)) return false;
   if (!readWaypoints(req, q.trajectory, error)) return false;
   if (!fields::sharedOptions(req, defaults, q, error)) return false;

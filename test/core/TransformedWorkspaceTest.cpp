@@ -1,5 +1,5 @@
-// domain::TransformedWorkspace: a workspace in a frame F fixed to the base frame. The identity transform is the
-// workspace itself (bit for bit); the pose enclosures contain the exactly mapped poses (long double reference) and
+// domain::TransformedDomain of a Workspace: a workspace in a frame F fixed to the base frame. The identity transform is
+// the workspace itself (bit for bit); the pose enclosures contain the exactly mapped poses (long double reference) and
 // the gradient is the transform's; the verifier gives the same verdicts and overlapping max-error brackets as on the
 // equivalent base-frame workspace; unsupported or invalid transforms are refused with a message saying why.
 #include <gtest/gtest.h>
@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <string>
 #include <utility>
@@ -15,17 +16,22 @@
 
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
-#include "pkm_accuracy/core/domain/TransformedWorkspace.hpp"
+#include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
 using namespace pkm_accuracy;
 using domain::RigidTransform;
-using domain::TransformedWorkspace;
+using domain::TransformedDomain;
 using domain::Workspace;
 
 namespace {
+
+/// The workspace ws in the frame whose pose in the base frame is t.
+TransformedDomain transformed(Workspace ws, const RigidTransform& t) {
+  return TransformedDomain(std::make_unique<Workspace>(std::move(ws)), t);
+}
 
 bool identical(const Interval& a, const Interval& b) { return a.lower() == b.lower() && a.upper() == b.upper(); }
 
@@ -86,7 +92,7 @@ DVec sampledMaxima(const model::RobotModel& robot, const domain::Domain& d, int 
 
 TEST(TransformedWorkspace, IdentityTransformIsTheWorkspaceItself) {
   const Workspace ws = smallBox();
-  const TransformedWorkspace tw(ws, RigidTransform());
+  const TransformedDomain tw = transformed(ws, RigidTransform());
   EXPECT_EQ(tw.yawOffset(), 0.0);
   std::mt19937_64 rng(3);
   for (int trial = 0; trial < 200; ++trial) {
@@ -126,7 +132,7 @@ TEST(TransformedWorkspace, EnclosesTheExactlyMappedPosesWithTheTransformsGradien
   for (int trial = 0; trial < 50; ++trial) {
     const double a = trial == 0 ? 1.5707963267948966 : angle(rng);
     const Eigen::Vector3d t(offset(rng), offset(rng), offset(rng));
-    const TransformedWorkspace tw(ws, RigidTransform::fromTranslationYaw(t, a));
+    const TransformedDomain tw = transformed(ws, RigidTransform::fromTranslationYaw(t, a));
     EXPECT_EQ(tw.yawOffset(), std::atan2(std::sin(a), std::cos(a)));
     const long double ca = std::cos(static_cast<long double>(tw.yawOffset()));
     const long double sa = std::sin(static_cast<long double>(tw.yawOffset()));
@@ -194,10 +200,10 @@ TEST(TransformedWorkspace, SameVerdictsAsTheEquivalentBaseFrameWorkspace) {
   const Eigen::Vector2d centreFrame = Eigen::Rotation2Dd(-a) * (centreBase - t.head<2>());
   const std::array<Interval, 3> angles = {Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01, 0.01)};
   const Workspace base(domain::PositionRegion::cylinder(centreBase.x(), centreBase.y(), 0.01, 0.47, 0.48), angles);
-  const TransformedWorkspace framed(
-      Workspace(domain::PositionRegion::cylinder(centreFrame.x(), centreFrame.y(), 0.01, 0.37, 0.38),
-                {Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01 - a, 0.01 - a)}),
-      RigidTransform::fromTranslationYaw(t, a));
+  const TransformedDomain framed =
+      transformed(Workspace(domain::PositionRegion::cylinder(centreFrame.x(), centreFrame.y(), 0.01, 0.37, 0.38),
+                            {Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.01 - a, 0.01 - a)}),
+                  RigidTransform::fromTranslationYaw(t, a));
 
   for (const auto& [thresholds, expected] : {std::make_pair(six(1e-3, 1e-2), verify::Verdict::Safe),
                                              std::make_pair(six(1e-6, 1e-6), verify::Verdict::Unsafe)}) {
@@ -225,10 +231,10 @@ TEST(TransformedWorkspace, SameVerdictsAsTheEquivalentBaseFrameWorkspace) {
   // A larger pair that needs a real search: thresholds 10 % above / 5 % below the sampled maxima.
   const Workspace bigBase(domain::PositionRegion::cylinder(centreBase.x(), centreBase.y(), 0.05, 0.46, 0.49),
                           {Interval(-0.1, 0.1), Interval(-0.1, 0.1), Interval(-0.1, 0.1)});
-  const TransformedWorkspace bigFramed(
-      Workspace(domain::PositionRegion::cylinder(centreFrame.x(), centreFrame.y(), 0.05, 0.36, 0.39),
-                {Interval(-0.1, 0.1), Interval(-0.1, 0.1), Interval(-0.1 - a, 0.1 - a)}),
-      RigidTransform::fromTranslationYaw(t, a));
+  const TransformedDomain bigFramed =
+      transformed(Workspace(domain::PositionRegion::cylinder(centreFrame.x(), centreFrame.y(), 0.05, 0.36, 0.39),
+                            {Interval(-0.1, 0.1), Interval(-0.1, 0.1), Interval(-0.1 - a, 0.1 - a)}),
+                  RigidTransform::fromTranslationYaw(t, a));
   const DVec maxima = sampledMaxima(robot, bigBase, 20000, 11);
   for (const auto& [factor, expected] :
        {std::make_pair(1.10, verify::Verdict::Safe), std::make_pair(0.95, verify::Verdict::Unsafe)}) {
@@ -254,7 +260,7 @@ TEST(TransformedWorkspace, MaxErrorBracketsOverlapThoseOfTheEquivalentBaseFrameW
                                   Interval(-0.004, 0.004), Interval(-0.004, 0.004)});
   };
   const Workspace base = box(Eigen::Vector3d::Zero());
-  const TransformedWorkspace framed(box(-t), RigidTransform::fromTranslationYaw(t, 0.0));
+  const TransformedDomain framed = transformed(box(-t), RigidTransform::fromTranslationYaw(t, 0.0));
   verify::VerifierOptions o;
   o.mode = verify::Mode::MaxError;
   o.alpha = 0.2;
@@ -274,7 +280,7 @@ TEST(TransformedWorkspace, RefusesInvalidTransformsAndTellsRotationsAboutZ) {
   const Workspace ws = smallBox();
   auto message = [&](const RigidTransform& t) -> std::string {
     try {
-      TransformedWorkspace tw(ws, t);
+      TransformedDomain tw = transformed(ws, t);
     } catch (const InvalidArgument& e) {
       return e.what();
     }
@@ -296,16 +302,16 @@ TEST(TransformedWorkspace, RefusesInvalidTransformsAndTellsRotationsAboutZ) {
   // Rotations about z built by fromTranslationYaw or Eigen's AngleAxis have exactly zero off-z entries: the cheap
   // exact case. Any other rotation is accepted too (the general case).
   EXPECT_EQ(message(RigidTransform::fromTranslationYaw(Eigen::Vector3d(1, 2, 3), -2.0)), "");
-  EXPECT_TRUE(TransformedWorkspace(ws, RigidTransform::fromTranslationYaw(Eigen::Vector3d(1, 2, 3), -2.0)).aboutZ());
+  EXPECT_TRUE(transformed(ws, RigidTransform::fromTranslationYaw(Eigen::Vector3d(1, 2, 3), -2.0)).aboutZ());
   RigidTransform aboutZ;
   aboutZ.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   EXPECT_EQ(message(aboutZ), "");
-  EXPECT_TRUE(TransformedWorkspace(ws, aboutZ).aboutZ());
-  EXPECT_DOUBLE_EQ(TransformedWorkspace(ws, aboutZ).yawOffset(), 0.3);
+  EXPECT_TRUE(transformed(ws, aboutZ).aboutZ());
+  EXPECT_DOUBLE_EQ(transformed(ws, aboutZ).yawOffset(), 0.3);
   RigidTransform tilted;
   tilted.rotation = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()).toRotationMatrix();
   EXPECT_EQ(message(tilted), "");
-  const TransformedWorkspace tw(ws, tilted);
+  const TransformedDomain tw = transformed(ws, tilted);
   EXPECT_FALSE(tw.aboutZ());
   EXPECT_DOUBLE_EQ(tw.rotationRpy()[0], 0.1);
   EXPECT_EQ(tw.rotationRpy()[1], 0.0);
@@ -317,7 +323,7 @@ namespace {
 using Vec3L = std::array<long double, 3>;
 
 /// The exactly mapped base-frame pose of a frame-F point (long double): position, and principal RPY of R_T R_F.
-void exactPose(const TransformedWorkspace& tw, const DVec& p, long double out[6]) {
+void exactPose(const TransformedDomain& tw, const DVec& p, long double out[6]) {
   const auto& a = tw.rotationRpy();
   const Mat3L rt = rpy(a[0], a[1], a[2]);
   const Mat3L n = product(rt, rpy(p[3], p[4], p[5]));
@@ -359,9 +365,9 @@ TEST(TransformedWorkspace, GeneralRotationEnclosesTheExactlyMappedPosesAndTheirG
   for (int trial = 0; trial < 40; ++trial) {
     // The last trials put the base-frame yaw or roll across +-pi inside the boxes.
     const double yaw = trial >= 30 ? 3.14 : angle(rng);
-    const TransformedWorkspace tw(
-        ws, RigidTransform::fromTranslationRpy(Eigen::Vector3d(offset(rng), offset(rng), offset(rng)), tilt(rng),
-                                               tilt(rng), yaw));
+    const TransformedDomain tw =
+        transformed(ws, RigidTransform::fromTranslationRpy(Eigen::Vector3d(offset(rng), offset(rng), offset(rng)),
+                                                           tilt(rng), tilt(rng), yaw));
     ASSERT_FALSE(tw.aboutZ());
     for (int b = 0; b < 20; ++b) {
       const DVec c = test::randomPoint(ws.initialBox(), rng);
@@ -453,11 +459,11 @@ TEST(TransformedWorkspace, TiltedFrameVerdictsAgreeWithAnIndependentMapping) {
   const Eigen::Vector3d c = t.rotation.transpose() * (Eigen::Vector3d(0.0, 0.0, 0.475) - t.translation);
   const Eigen::Vector3d a = rpyOfMatrix(t.rotation.transpose());
   const double h = 0.01, ha = 0.02;
-  const TransformedWorkspace framed(
-      Workspace::fromRanges({Interval(c.x() - h, c.x() + h), Interval(c.y() - h, c.y() + h),
-                             Interval(c.z() - h, c.z() + h), Interval(a.x() - ha, a.x() + ha),
-                             Interval(a.y() - ha, a.y() + ha), Interval(a.z() - ha, a.z() + ha)}),
-      t);
+  const TransformedDomain framed =
+      transformed(Workspace::fromRanges({Interval(c.x() - h, c.x() + h), Interval(c.y() - h, c.y() + h),
+                                         Interval(c.z() - h, c.z() + h), Interval(a.x() - ha, a.x() + ha),
+                                         Interval(a.y() - ha, a.y() + ha), Interval(a.z() - ha, a.z() + ha)}),
+                  t);
   ASSERT_FALSE(framed.aboutZ());
   std::mt19937_64 rng(17);
   DVec maxima = DVec::Zero(6);
@@ -492,7 +498,8 @@ TEST(TransformedWorkspace, TiltedFrameGivesTheVerdictsOfTheEquivalentBaseFrameWo
     return std::array<Interval, 3>{Interval(r.x()), Interval(r.y()), Interval(r.z())};
   };
   const Workspace base(domain::PositionRegion::sphere(centreBase, 0.01), fixed(rpyBase));
-  const TransformedWorkspace framed(Workspace(domain::PositionRegion::sphere(centreFrame, 0.01), fixed(rpyFrame)), t);
+  const TransformedDomain framed =
+      transformed(Workspace(domain::PositionRegion::sphere(centreFrame, 0.01), fixed(rpyFrame)), t);
   for (const auto& [thresholds, expected] : {std::make_pair(six(1e-3, 1e-2), verify::Verdict::Safe),
                                              std::make_pair(six(1e-6, 1e-6), verify::Verdict::Unsafe)}) {
     const auto rb = verify::Verifier::run(robot, base, verifyOptions(thresholds));

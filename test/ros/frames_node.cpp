@@ -4,7 +4,9 @@
 // witnesses lie in the requested frame's workspace and violate the threshold once mapped to the base frame (double
 // oracle), max_error brackets overlap those of the base-frame request, ~verdict and ~boxes use the right frames, a
 // tilted frame (general rotation) agrees with its equivalent base-frame request; an unknown frame is refused naming
-// frame_id.
+// frame_id. /verify_trajectory likewise: waypoints given in a frame give the verdicts and overlapping brackets of the
+// base-frame trajectory through the mapped waypoints (slerp in the tilted frame, linear_rpy in the turned one, where
+// both interpolations are frame-independent), with the witness pose in the request's frame.
 #include <array>
 #include <cmath>
 #include <functional>
@@ -20,11 +22,13 @@
 
 #include "VerifyHelpers.hpp"
 #include "pkm_accuracy/VerificationResult.h"
+#include "pkm_accuracy/VerifyTrajectory.h"
 
 namespace {
 
 using namespace pkm_accuracy_test;  // NOLINT(build/namespaces)
 using pkm_accuracy::VerificationResult;
+using pkm_accuracy::VerifyTrajectory;
 
 // The frames of frames.test: the pose of each in base_link.
 const Eigen::Vector3d kWork(0.03, -0.02, 0.1);     // work: translated
@@ -277,6 +281,135 @@ TEST(Frames, UnknownFrameIsRefusedNamingIt) {
   // Still serving.
   const auto ok = verify(smallRequest(kGenerous));
   EXPECT_TRUE(ok.success) << ok.message;
+}
+
+// ---- /verify_trajectory in frames ----------------------------------------------------------------------------
+
+Eigen::Matrix3d rotationOf(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::Vector3d rpyOf(const Eigen::Matrix3d& n) {
+  return {std::atan2(n(2, 1), n(2, 2)), std::atan2(-n(2, 0), std::hypot(n(0, 0), n(1, 0))),
+          std::atan2(n(1, 0), n(0, 0))};
+}
+
+/// Three waypoints at t = 1, 2, 4 s inside the paper workspace (base frame).
+VerifyTrajectory::Request baseTrajectory(const std::array<double, 6>& th, const std::string& interpolation,
+                                         const std::string& mode = "verify") {
+  VerifyTrajectory::Request r;
+  r.times = {1.0, 2.0, 4.0};
+  r.x = {-0.01, 0.0, 0.01};
+  r.y = {0.01, -0.005, -0.01};
+  r.z = {0.47, 0.475, 0.48};
+  r.roll = {0.0, 0.01, -0.01};
+  r.pitch = {-0.01, 0.0, 0.01};
+  r.yaw = {0.005, -0.01, 0.0};
+  r.interpolation = interpolation;
+  r.mode = mode;
+  r.alpha = 0.05;
+  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = th[k];
+  r.time_budget = 20.0;
+  return r;
+}
+
+/// The waypoints of `base` expressed in the frame whose pose in the base frame is (t, rt), computed in double
+/// independently of tf2 and of the node: p_F = rt^T (p - t), R_F = rt^T R.
+VerifyTrajectory::Request inFrame(const VerifyTrajectory::Request& base, const Eigen::Vector3d& t,
+                                  const Eigen::Matrix3d& rt, const std::string& frame) {
+  VerifyTrajectory::Request r = base;
+  for (std::size_t i = 0; i < base.times.size(); ++i) {
+    const Eigen::Vector3d p = rt.transpose() * (Eigen::Vector3d(base.x[i], base.y[i], base.z[i]) - t);
+    const Eigen::Vector3d a = rpyOf(rt.transpose() * rotationOf(base.roll[i], base.pitch[i], base.yaw[i]));
+    r.x[i] = p.x();
+    r.y[i] = p.y();
+    r.z[i] = p.z();
+    r.roll[i] = a.x();
+    r.pitch[i] = a.y();
+    r.yaw[i] = a.z();
+  }
+  r.frame_id = frame;
+  return r;
+}
+
+VerifyTrajectory::Response verifyTrajectory(const VerifyTrajectory::Request& req) {
+  EXPECT_TRUE(ros::service::waitForService("/verify_trajectory", ros::Duration(20.0)));
+  VerifyTrajectory srv;
+  srv.request = req;
+  EXPECT_TRUE(ros::service::call("/verify_trajectory", srv));
+  return srv.response;
+}
+
+/// The framed request gives the base request's verdict (and overlapping max_error brackets); its witness pose is the
+/// framed trajectory's position at witness_t and, mapped to the base frame, violates the threshold.
+void expectSameTrajectoryAnswer(const VerifyTrajectory::Request& base, const VerifyTrajectory::Request& framed,
+                                const Eigen::Vector3d& t, const Eigen::Matrix3d& rt, const std::string& expected) {
+  const auto rb = verifyTrajectory(base);
+  const auto rf = verifyTrajectory(framed);
+  ASSERT_TRUE(rb.success) << rb.message;
+  ASSERT_TRUE(rf.success) << rf.message;
+  EXPECT_EQ(rb.verdict, expected) << rb.message;
+  EXPECT_EQ(rf.verdict, rb.verdict) << rf.message;
+  if (base.mode == "max_error") {
+    for (std::size_t k = 0; k < 6; ++k) {
+      EXPECT_LE(rf.lower_bound[k], rb.upper_bound[k]) << k;
+      EXPECT_LE(rb.lower_bound[k], rf.upper_bound[k]) << k;
+      EXPECT_GT(rf.lower_bound[k], 0.0) << k;
+    }
+  }
+  if (rf.verdict != "UNSAFE") return;
+  ASSERT_TRUE(rf.has_witness);
+  const auto c = static_cast<std::size_t>(rf.witness_component);
+  ASSERT_LT(c, 6u);
+  // The position of the framed trajectory at witness_t (linear between its waypoints, in the frame).
+  const double wt = rf.witness_t;
+  ASSERT_GE(wt, framed.times.front());
+  ASSERT_LE(wt, framed.times.back());
+  std::size_t i = 0;
+  while (i + 2 < framed.times.size() && wt > framed.times[i + 1]) ++i;
+  const double s = (wt - framed.times[i]) / (framed.times[i + 1] - framed.times[i]);
+  const Eigen::Vector3d a(framed.x[i], framed.y[i], framed.z[i]), b(framed.x[i + 1], framed.y[i + 1], framed.z[i + 1]);
+  const Eigen::Vector3d w(rf.witness_pose[0], rf.witness_pose[1], rf.witness_pose[2]);
+  EXPECT_LT((w - (a + s * (b - a))).norm(), 1e-9) << "witness_pose is not the framed trajectory's pose at witness_t";
+  const Eigen::Vector3d p = t + rt * w;
+  const Eigen::Vector3d rpy = rpyOf(rt * rotationOf(rf.witness_pose[3], rf.witness_pose[4], rf.witness_pose[5]));
+  const auto f = worstErrorAt({p.x(), p.y(), p.z(), rpy.x(), rpy.y(), rpy.z()});
+  EXPECT_GT(f[c], framed.thresholds[c]);
+  EXPECT_GE(f[c], rf.witness_error[c] * (1.0 - 1e-9));
+}
+
+TEST(Frames, TrajectoryInATiltedFrameGivesTheVerdictsOfTheBaseFrame) {
+  const Eigen::Matrix3d rt = rotationOf(kTiltedRpy.x(), kTiltedRpy.y(), kTiltedRpy.z());
+  for (const auto& [th, expected] : {std::make_pair(kGenerous, "SAFE"), std::make_pair(kTiny, "UNSAFE")}) {
+    const auto base = baseTrajectory(th, "slerp");
+    expectSameTrajectoryAnswer(base, inFrame(base, kTilted, rt, "tilted"), kTilted, rt, expected);
+  }
+  const auto base = baseTrajectory(kNone, "slerp", "max_error");
+  expectSameTrajectoryAnswer(base, inFrame(base, kTilted, rt, "tilted"), kTilted, rt, "UNDECIDED");
+}
+
+TEST(Frames, LinearRpyTrajectoryInATurnedFrameGivesTheVerdictsOfTheBaseFrame) {
+  // Rotated about z: yaw is shifted by a constant, so the linear-RPY interpolant is the same in both frames.
+  const Eigen::Matrix3d rt = rotationOf(0.0, 0.0, kYaw);
+  for (const auto& [th, expected] : {std::make_pair(kGenerous, "SAFE"), std::make_pair(kTiny, "UNSAFE")}) {
+    const auto base = baseTrajectory(th, "linear_rpy");
+    expectSameTrajectoryAnswer(base, inFrame(base, kTurned, rt, "turned"), kTurned, rt, expected);
+  }
+}
+
+TEST(Frames, TrajectoryInAnUnknownFrameIsRefusedNamingIt) {
+  auto req = baseTrajectory(kGenerous, "slerp");
+  req.frame_id = "no_such_frame";
+  const auto r = verifyTrajectory(req);
+  EXPECT_FALSE(r.success);
+  EXPECT_EQ(r.verdict, "");
+  EXPECT_NE(r.message.find("frame_id: no transform from frame \"no_such_frame\""), std::string::npos) << r.message;
+  req.frame_id = "base_link";  // the base frame by name
+  const auto ok = verifyTrajectory(req);
+  EXPECT_TRUE(ok.success) << ok.message;
+  EXPECT_EQ(ok.verdict, "SAFE") << ok.message;
 }
 
 }  // namespace

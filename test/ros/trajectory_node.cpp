@@ -226,11 +226,6 @@ TEST(VerifyTrajectory, MalformedFieldsAreRefusedByNameAndTheNodeKeepsServing) {
   }
   {
     auto r = shortTrajectory(kGenerous);
-    r.frame_id = "world";
-    expectRefused(r, "frame_id");
-  }
-  {
-    auto r = shortTrajectory(kGenerous);
     r.geometry_splitting = "often";
     expectRefused(r, "geometry_splitting");
   }

@@ -26,8 +26,8 @@ struct JobHooks {
 /// The workspace of a query. @throws InvalidArgument (naming the range) on a range the core refuses.
 domain::Workspace toWorkspace(const WorkspaceSpec& spec);
 
-/// The search domain of a query: its workspace, or, when the query has a transform (frame_id other than the base
-/// frame), the core's domain::TransformedWorkspace of it (which decides which transforms it supports).
+/// The search domain of a query: its workspace or trajectory, or, when the query has a transform (frame_id other than
+/// the base frame), the core's domain::TransformedDomain of it (which decides which transforms it supports).
 /// @throws InvalidArgument as toWorkspace, or the core's refusal of the transform (prefixed with "frame_id \"F\": ").
 std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query);
 

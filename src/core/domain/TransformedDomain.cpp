@@ -1,6 +1,7 @@
-#include "pkm_accuracy/core/domain/TransformedWorkspace.hpp"
+#include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -59,8 +60,9 @@ RigidTransform RigidTransform::fromTranslationRpy(const Eigen::Vector3d& transla
   return t;
 }
 
-TransformedWorkspace::TransformedWorkspace(Workspace workspace, const RigidTransform& base_from_frame)
-    : workspace_(std::move(workspace)), translation_(base_from_frame.translation) {
+TransformedDomain::TransformedDomain(std::unique_ptr<Domain> inner, const RigidTransform& base_from_frame)
+    : inner_(std::move(inner)), translation_(base_from_frame.translation) {
+  if (!inner_) throw InvalidArgument("transformed domain: expected a domain, got none (null)");
   const Eigen::Matrix3d& r = base_from_frame.rotation;
   if (!translation_.allFinite()) {
     std::ostringstream os;
@@ -104,33 +106,40 @@ TransformedWorkspace::TransformedWorkspace(Workspace workspace, const RigidTrans
   }
 }
 
-std::array<double, 2> TransformedWorkspace::referenceAngles(const DVec& t) const {
-  const std::array<double, 3> rpy = rpyOf(rd_ * rpyMatrix(t[3], t[4], t[5]));
+std::array<double, 2> TransformedDomain::referenceAngles(double roll, double pitch, double yaw) const {
+  const std::array<double, 3> rpy = rpyOf(rd_ * rpyMatrix(roll, pitch, yaw));
   return {rpy[0], rpy[2]};
 }
 
+std::array<double, 2> TransformedDomain::referenceAnglesAt(const IVec& in) const {
+  if (aboutZ_) return {0.0, 0.0};
+  return referenceAngles(in[3].mid(), in[4].mid(), in[5].mid());
+}
+
 template <typename S>
-void TransformedWorkspace::map(const S in[6], const std::array<double, 2>& ref, S out[6]) const {
+void TransformedDomain::map(S pose[6], const std::array<double, 2>& ref) const {
+  S out[6];
   if (aboutZ_) {
     if (rotate_) {
-      out[0] = cos_ * in[0] - sin_ * in[1];
-      out[1] = sin_ * in[0] + cos_ * in[1];
-      out[5] = in[5] + Interval(rpy_[2]);
+      out[0] = cos_ * pose[0] - sin_ * pose[1];
+      out[1] = sin_ * pose[0] + cos_ * pose[1];
+      out[5] = pose[5] + Interval(rpy_[2]);
     } else {
-      out[0] = in[0];
-      out[1] = in[1];
-      out[5] = in[5];
+      out[0] = pose[0];
+      out[1] = pose[1];
+      out[5] = pose[5];
     }
-    out[2] = in[2];
-    out[3] = in[3];
-    out[4] = in[4];
+    out[2] = pose[2];
+    out[3] = pose[3];
+    out[4] = pose[4];
   } else {
     using std::cos;
     using std::sin;
     using std::sqrt;
-    for (int k = 0; k < 3; ++k) out[k] = r_[k][0] * in[0] + r_[k][1] * in[1] + r_[k][2] * in[2];
+    for (int k = 0; k < 3; ++k) out[k] = r_[k][0] * pose[0] + r_[k][1] * pose[1] + r_[k][2] * pose[2];
     // R_F = Rz(yaw) Ry(pitch) Rx(roll) (columns 0 and 1 and entry (2, 2) are needed), N = R_T R_F.
-    const S sr = sin(in[3]), cr = cos(in[3]), sp = sin(in[4]), cp = cos(in[4]), sy = sin(in[5]), cy = cos(in[5]);
+    const S sr = sin(pose[3]), cr = cos(pose[3]), sp = sin(pose[4]), cp = cos(pose[4]), sy = sin(pose[5]),
+            cy = cos(pose[5]);
     const S f0[3] = {cy * cp, sy * cp, -sp};
     const S f1[3] = {cy * sp * sr - sy * cr, sy * sp * sr + cy * cr, cp * sr};
     const S f2[3] = {cy * sp * cr + sy * sr, sy * sp * cr - cy * sr, cp * cr};
@@ -141,47 +150,39 @@ void TransformedWorkspace::map(const S in[6], const std::array<double, 2>& ref, 
     out[4] = atan2(-n20, sqrt(sqr(n00) + sqr(n10)));
     out[5] = angleFrom(n10, n00, ref[1], interval::cosPoint(ref[1]), interval::sinPoint(ref[1]));
   }
-  // Zero offsets are skipped so that the identity transform gives exactly the workspace's own poses.
+  // Zero offsets are skipped so that the identity transform gives exactly the inner domain's own poses.
   for (int k = 0; k < 3; ++k) {
     if (translation_[k] != 0.0) out[k] = out[k] + Interval(translation_[k]);
   }
+  for (int k = 0; k < 6; ++k) pose[k] = out[k];
 }
 
-void TransformedWorkspace::poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const {
-  out.variables = 6;
-  const DVec c = centreOf(box);
-  const std::array<double, 2> ref = aboutZ_ ? std::array<double, 2>{0.0, 0.0} : referenceAngles(c);
-  Interval in[6], mapped[6], centre[6], centreMapped[6];
+void TransformedDomain::poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const {
+  inner_->poseView(box, gradient, out);
+  // One reference for the box, the centre and the gradient: the frame-F centre pose's (the box centre for a
+  // workspace).
+  const std::array<double, 2> ref = referenceAnglesAt(out.centrePose);
+  Interval pose[6], centre[6];
   for (int i = 0; i < 6; ++i) {
-    in[i] = box[i];
-    centre[i] = Interval(c[i]);
+    pose[i] = out.pose[i];
+    centre[i] = out.centrePose[i];
   }
-  map(in, ref, mapped);
-  map(centre, ref, centreMapped);
-  out.pose.resize(6);
-  out.centrePose.resize(6);
-  out.deviation.resize(6);
+  map(pose, ref);
+  map(centre, ref);
   for (int i = 0; i < 6; ++i) {
-    out.pose[i] = mapped[i];
-    out.centrePose[i] = centreMapped[i];
-    out.deviation[i] = box[i] - centre[i];
+    out.pose[i] = pose[i];
+    out.centrePose[i] = centre[i];
   }
-  out.hasGradient = gradient;
-  if (gradient) {
-    DualI v[6], d[6];
-    for (int i = 0; i < 6; ++i) v[i] = DualI::variable(box[i], i);
-    map(v, ref, d);
-    for (int i = 0; i < 6; ++i) out.dualPose[i] = d[i];
-  }
+  if (out.hasGradient) map(out.dualPose.data(), ref);
 }
 
-IVec TransformedWorkspace::poseAt(const DVec& t) const {
-  const std::array<double, 2> ref = aboutZ_ ? std::array<double, 2>{0.0, 0.0} : referenceAngles(t);
-  Interval in[6], mapped[6];
-  for (int i = 0; i < 6; ++i) in[i] = Interval(t[i]);
-  map(in, ref, mapped);
-  IVec p(6);
-  for (int i = 0; i < 6; ++i) p[i] = mapped[i];
+IVec TransformedDomain::poseAt(const DVec& t) const {
+  IVec p = inner_->poseAt(t);
+  const std::array<double, 2> ref = referenceAnglesAt(p);
+  Interval pose[6];
+  for (int i = 0; i < 6; ++i) pose[i] = p[i];
+  map(pose, ref);
+  for (int i = 0; i < 6; ++i) p[i] = pose[i];
   return p;
 }
 

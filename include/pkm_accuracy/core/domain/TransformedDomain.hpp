@@ -1,20 +1,22 @@
-// A workspace given in a frame F that is rigidly fixed to the robot's base frame. The search variables are the
-// workspace's own (x, y, z, roll, pitch, yaw of the platform frame in F, classified against the workspace's region in
-// F); the poses handed to the model are in the base frame:
+// A domain (a workspace, a trajectory, any motion variety) whose poses are given in a frame F that is rigidly fixed to
+// the robot's base frame. The search variables are the inner domain's own (for a workspace: x, y, z, roll, pitch, yaw
+// of the platform frame in F, classified against the workspace's region in F; for a trajectory: its parameter); the
+// poses handed to the model are in the base frame:
 //   p_base = t + R_T p_F,   R_base = R_T R_F,   T = (R_T, t) = base_from_F (the pose of F in the base frame).
-// The domain is exactly the image of the workspace under T (no enclosing box of it): poseView() maps every box of
-// variables to base-frame poses in interval arithmetic, with the gradient with respect to the variables (Dual).
+// The domain is exactly the image of the inner domain under T (no enclosing box of it): poseView() maps the inner
+// domain's enclosures of the poses of a box of variables (and their gradient with respect to the variables, Dual) to
+// base-frame poses in interval arithmetic.
 //
 // Two cases:
 //   * R_T a rotation about z, R_T = Rz(a): Rz(a) Rz(yaw) Ry(pitch) Rx(roll) = Rz(a + yaw) Ry(pitch) Rx(roll)
 //     exactly, so roll and pitch are unchanged and yaw_base = yaw + a (cheap and tight; the identity transform gives
-//     the workspace's own poses bit for bit);
+//     the inner domain's own poses bit for bit);
 //   * any other rotation: the base-frame roll, pitch, yaw are the principal RPY of N = R_T R_F through rigorous
 //     interval atan2 (interval/InverseTrig.hpp): roll = atan2(N21, N22), pitch = atan2(-N20, sqrt(N00^2 + N10^2)),
-//     yaw = atan2(N10, N00). Roll and yaw are measured from reference angles taken at the box centre, so a box whose
-//     base-frame roll or yaw crosses +-pi is not blown up to [-pi, pi] (the model only uses their sine and cosine,
-//     so any representative modulo 2 pi is the same pose). Near base-frame pitch = +-pi/2 (gimbal lock) roll and
-//     yaw are undefined and their enclosures and derivative enclosures blow up (sound; the verifier then needs many
+//     yaw = atan2(N10, N00). Roll and yaw are measured from reference angles taken at the box's centre pose, so a box
+//     whose base-frame roll or yaw crosses +-pi is not blown up to [-pi, pi] (the model only uses their sine and
+//     cosine, so any representative modulo 2 pi is the same pose). Near base-frame pitch = +-pi/2 (gimbal lock) roll
+//     and yaw are undefined and their enclosures and derivative enclosures blow up (sound; the verifier then needs many
 //     boxes there or leaves them undecided).
 //
 // What "exactly" means in floating point: the translation is used as given; the rotation is the exact rotation
@@ -26,11 +28,12 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 
 #include <Eigen/Core>
 
-#include "pkm_accuracy/core/domain/Workspace.hpp"
+#include "pkm_accuracy/core/domain/Domain.hpp"
 
 namespace pkm_accuracy {
 namespace domain {
@@ -46,30 +49,30 @@ struct RigidTransform {
   static RigidTransform fromTranslationRpy(const Eigen::Vector3d& translation, double roll, double pitch, double yaw);
 };
 
-class TransformedWorkspace final : public Domain {
+class TransformedDomain : public Domain {
  public:
   /// Largest deviation of R^T R from the identity, and of the rotation used from R, accepted.
   static constexpr double kOrthonormalityTolerance = 1e-9;
 
-  /// @param workspace the workspace in frame F (region and angle ranges)
+  /// @param inner the domain in frame F (its variables, region and poses in F); not null
   /// @param base_from_frame the pose of F in the base frame
-  /// @throws InvalidArgument if the translation or rotation is not finite or the rotation is not a rotation matrix
-  ///         (orthonormal within kOrthonormalityTolerance, determinant +1); the message names which.
-  TransformedWorkspace(Workspace workspace, const RigidTransform& base_from_frame);
+  /// @throws InvalidArgument if inner is null, the translation or rotation is not finite or the rotation is not a
+  ///         rotation matrix (orthonormal within kOrthonormalityTolerance, determinant +1); the message names which.
+  TransformedDomain(std::unique_ptr<Domain> inner, const RigidTransform& base_from_frame);
 
-  int variables() const override { return 6; }
-  /// The workspace's names ("x [m]", ..., "yaw [rad]"): coordinates in frame F.
-  std::string variableName(int i) const override { return workspace_.variableName(i); }
-  /// The workspace's initial box (in frame F).
-  const IVec& initialBox() const override { return workspace_.initialBox(); }
-  /// Base-frame poses of the box (pose, centrePose) and their gradient with respect to the frame-F variables.
+  /// The inner domain's variables, names and initial box (in frame F).
+  int variables() const override { return inner_->variables(); }
+  std::string variableName(int i) const override { return inner_->variableName(i); }
+  const IVec& initialBox() const override { return inner_->initialBox(); }
+  /// Base-frame poses of the box (pose, centrePose) and their gradient with respect to the variables.
   void poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const override;
-  /// The workspace's classification (the region is in frame F).
-  Containment classify(const IVec& box) const override { return workspace_.classify(box); }
+  /// The inner domain's classification (its region is in frame F).
+  Containment classify(const IVec& box) const override { return inner_->classify(box); }
   /// Enclosure of the base-frame pose of a point of the variables.
   IVec poseAt(const DVec& t) const override;
 
-  const Workspace& workspace() const { return workspace_; }
+  /// The domain in frame F.
+  const Domain& inner() const { return *inner_; }
   /// Roll, pitch, yaw of the rotation R_T actually used (rad).
   const std::array<double, 3>& rotationRpy() const { return rpy_; }
   /// True when R_T is a rotation about z (roll = pitch = 0: the cheap exact case).
@@ -79,12 +82,16 @@ class TransformedWorkspace final : public Domain {
   const Eigen::Vector3d& translation() const { return translation_; }
 
  private:
-  /// Reference angles (roll, yaw) of the base-frame orientation, in double, at a point of the variables.
-  std::array<double, 2> referenceAngles(const DVec& t) const;
+  /// Reference angles (roll, yaw) of the base-frame orientation, in double, for a frame-F orientation (roll, pitch,
+  /// yaw).
+  std::array<double, 2> referenceAngles(double roll, double pitch, double yaw) const;
+  /// The reference angles for the frame-F poses `in` (at their midpoints; unused when aboutZ_).
+  std::array<double, 2> referenceAnglesAt(const IVec& in) const;
+  /// Maps frame-F poses (Interval or DualI) to base-frame poses in place.
   template <typename S>
-  void map(const S in[6], const std::array<double, 2>& ref, S out[6]) const;
+  void map(S pose[6], const std::array<double, 2>& ref) const;
 
-  Workspace workspace_;
+  std::unique_ptr<Domain> inner_;
   Eigen::Vector3d translation_;
   std::array<double, 3> rpy_{};
   bool aboutZ_ = true;
