@@ -344,9 +344,12 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
     const std::string mode = modeName(query.mode);
     const std::string frame = query.frame_id.empty() ? names_.base_link : query.frame_id;
     if (query.is_trajectory) {
-      ROS_INFO("%s: job %lu started (%s, trajectory of %lu waypoints over [%g, %g] s in frame %s)", via.c_str(),
-               static_cast<unsigned long>(id), mode.c_str(), static_cast<unsigned long>(query.trajectory.times.size()),
-               query.trajectory.times.front(), query.trajectory.times.back(), frame.c_str());
+      const bool segments = !query.trajectory.segments.empty();
+      ROS_INFO("%s: job %lu started (%s, trajectory of %lu %s over [%g, %g] s in frame %s)", via.c_str(),
+               static_cast<unsigned long>(id), mode.c_str(),
+               static_cast<unsigned long>(segments ? query.trajectory.segments.size() : query.trajectory.times.size()),
+               segments ? "polynomial segments" : "waypoints", query.trajectory.times.front(),
+               query.trajectory.times.back(), frame.c_str());
     } else {
       ROS_INFO("%s: job %lu started (%s, %s region in frame %s)", via.c_str(), static_cast<unsigned long>(id),
                mode.c_str(), toString(query.workspace.position.type).c_str(), frame.c_str());

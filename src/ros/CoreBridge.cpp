@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 #include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
@@ -46,7 +47,8 @@ domain::Workspace toWorkspace(const WorkspaceSpec& spec) {
 namespace {
 
 /// The trajectory of a query, in its frame_id.
-std::unique_ptr<domain::WaypointTrajectory> toTrajectory(const TrajectorySpec& spec) {
+std::unique_ptr<domain::PiecewiseTrajectory> toTrajectory(const TrajectorySpec& spec) {
+  if (!spec.segments.empty()) return std::make_unique<domain::PolynomialTrajectory>(spec.segments);
   std::vector<domain::WaypointTrajectory::Waypoint> waypoints(spec.times.size());
   for (std::size_t i = 0; i < waypoints.size() && i < spec.poses.size(); ++i) {
     waypoints[i].t = spec.times[i];
@@ -163,7 +165,7 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
 
   // A trajectory's pose at u, for the response: the midpoint of the verifier's certified enclosure of the base-frame
   // pose there, or, for waypoints in another frame, of the trajectory's own pose in that frame.
-  const std::unique_ptr<domain::WaypointTrajectory> inFrame =
+  const std::unique_ptr<domain::PiecewiseTrajectory> inFrame =
       q.is_trajectory && q.has_transform ? toTrajectory(q.trajectory) : nullptr;
   const auto trajectoryPose = [&inFrame](double u, const IVec& basePose) {
     const IVec pose = inFrame ? inFrame->poseAt(DVec::Constant(1, u)) : basePose;

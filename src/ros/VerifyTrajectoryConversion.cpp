@@ -8,6 +8,8 @@
 #include <sstream>
 #include <vector>
 
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 
 namespace pkm_accuracy {
@@ -17,11 +19,13 @@ namespace {
 using fields::idx;
 using fields::num;
 using fields::option;
+using pkm_accuracy::PolynomialSegment;
 
 bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& error) {
   const std::size_t n = req.times.size();
   if (n < 2) {
-    error = "times: expected at least 2 waypoints (one time each, s), got " + std::to_string(n);
+    error = "times: expected at least 2 waypoints (one time each, s), or polynomial_segments instead, got " +
+            std::to_string(n) + " waypoints";
     return false;
   }
   const std::vector<double>* coords[6] = {&req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
@@ -68,6 +72,59 @@ bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, s
   return true;
 }
 
+/// Horner's scheme in double (reports only).
+double evaluate(const std::vector<double>& c, double tau) {
+  double v = 0.0;
+  for (std::size_t j = c.size(); j-- > 0;) v = v * tau + c[j];
+  return v;
+}
+
+bool readPolynomialSegments(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& error) {
+  const std::vector<double>* waypointArrays[7] = {&req.times, &req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
+  const char* const waypointNames[7] = {"times", "x", "y", "z", "roll", "pitch", "yaw"};
+  for (std::size_t k = 0; k < 7; ++k) {
+    if (!waypointArrays[k]->empty()) {
+      error = std::string(
+                  "polynomial_segments: expected the waypoint arrays to be empty with polynomial segments (one "
+                  "form of trajectory per request), got ") +
+              std::to_string(waypointArrays[k]->size()) + " values in " + waypointNames[k];
+      return false;
+    }
+  }
+  if (!req.interpolation.empty()) {
+    error = "interpolation: expected \"\" with polynomial_segments (it applies to waypoints), got \"" +
+            req.interpolation + "\"";
+    return false;
+  }
+  spec.segments.clear();
+  for (const PolynomialSegment& m : req.polynomial_segments) {
+    domain::PolynomialTrajectory::Segment seg;
+    seg.start = m.t[0];
+    seg.end = m.t[1];
+    seg.coefficients = {m.x, m.y, m.z, m.roll, m.pitch, m.yaw};
+    spec.segments.push_back(std::move(seg));
+  }
+  // The core's own checks (tiling, finite values, degrees), whose messages name polynomial_segments[k].t / .x[j] ...
+  try {
+    const domain::PolynomialTrajectory check(spec.segments);
+  } catch (const InvalidArgument& e) {
+    error = e.what();
+    return false;
+  }
+  spec.times.clear();
+  spec.poses.clear();
+  for (const auto& seg : spec.segments) {
+    spec.times.push_back(seg.start);
+    for (double tau : {0.0, seg.end - seg.start}) {
+      std::array<double, 6> p{};
+      for (std::size_t i = 0; i < 6; ++i) p[i] = evaluate(seg.coefficients[i], tau);
+      spec.poses.push_back(p);
+    }
+  }
+  spec.times.push_back(spec.segments.back().end);
+  return true;
+}
+
 }  // namespace
 
 bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
@@ -77,7 +134,10 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
   // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
   q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
   if (!fields::mode(req.mode, q.mode, error)) return false;
-  if (!readWaypoints(req, q.trajectory, error)) return false;
+  if (req.polynomial_segments.empty() ? !readWaypoints(req, q.trajectory, error)
+                                      : !readPolynomialSegments(req, q.trajectory, error)) {
+    return false;
+  }
   if (!fields::sharedOptions(req, defaults, q, error)) return false;
   // min_width is a duration (s) here; the node's ~default_min_width (m / rad, for workspaces) does not apply.
   if (!option(req.min_width, 0.0, "min_width", "a finite number >= 0 (s, 0 = the verifier's choice)", q.min_width,
@@ -126,6 +186,7 @@ VerifyTrajectory::Request toRequest(const VerifyTrajectoryGoal& g) {
   r.pitch = g.pitch;
   r.yaw = g.yaw;
   r.interpolation = g.interpolation;
+  r.polynomial_segments = g.polynomial_segments;
   r.thresholds = g.thresholds;
   r.mode = g.mode;
   r.alpha = g.alpha;

@@ -99,6 +99,9 @@ TEST(TrajectoryAction, GoalAndResultAreTheServicesRequestAndResponse) {
   r.threads = 13;
   r.method = "precond";
   r.frame_id = "somewhere";
+  r.polynomial_segments.resize(2);
+  r.polynomial_segments[1].t = {3.5, 4.5};
+  r.polynomial_segments[1].yaw = {5.5, 6.5, 7.5};
   r.geometry_splitting = "never";
   r.stall_levels = 14;
   r.geometry_form = "decomposed";

@@ -4,10 +4,13 @@
 // and the worst error at that pose, evaluated in double from the yaml geometry (GoughPlatform::worstErrorAt, not the
 // verifier), exceeds the violated threshold. Every malformed field gives success = false naming it, and the node
 // keeps serving. The last job's ~verdict describes the trajectory.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -21,6 +24,7 @@ namespace {
 using pkm_accuracy::VerificationResult;
 using pkm_accuracy::VerifyTrajectory;
 using pkm_accuracy_test::kGenerous;
+using pkm_accuracy_test::kNone;
 using pkm_accuracy_test::kTiny;
 using pkm_accuracy_test::to6;
 using pkm_accuracy_test::worstErrorAt;
@@ -276,6 +280,167 @@ TEST(VerifyTrajectory, VerdictTopicDescribesTheTrajectoryJob) {
   EXPECT_EQ(got.verdict, "SAFE");
   EXPECT_DOUBLE_EQ(got.workspace_min[0], -0.01);
   EXPECT_DOUBLE_EQ(got.workspace_max[2], 0.48);
+}
+
+// ---- polynomial segments ----------------------------------------------------------------------------------------
+
+using pkm_accuracy::PolynomialSegment;
+
+/// Horner's scheme in double (the oracle's evaluation of a segment).
+double horner(const std::vector<double>& c, double tau) {
+  double v = 0.0;
+  for (std::size_t j = c.size(); j-- > 0;) v = v * tau + c[j];
+  return v;
+}
+
+/// The linear_rpy waypoint trajectory `w` as linear polynomial segments (the same trajectory up to rounding).
+VerifyTrajectory::Request asSegments(const VerifyTrajectory::Request& w) {
+  VerifyTrajectory::Request r = w;
+  r.times.clear();
+  r.x.clear();
+  r.y.clear();
+  r.z.clear();
+  r.roll.clear();
+  r.pitch.clear();
+  r.yaw.clear();
+  r.interpolation.clear();
+  const std::vector<double>* coords[6] = {&w.x, &w.y, &w.z, &w.roll, &w.pitch, &w.yaw};
+  for (std::size_t i = 0; i + 1 < w.times.size(); ++i) {
+    PolynomialSegment seg;
+    seg.t = {w.times[i], w.times[i + 1]};
+    std::vector<double>* out[6] = {&seg.x, &seg.y, &seg.z, &seg.roll, &seg.pitch, &seg.yaw};
+    const double h = w.times[i + 1] - w.times[i];
+    for (std::size_t k = 0; k < 6; ++k) *out[k] = {(*coords[k])[i], ((*coords[k])[i + 1] - (*coords[k])[i]) / h};
+    r.polynomial_segments.push_back(seg);
+  }
+  return r;
+}
+
+/// The pose of segment trajectory `r` at time t (the segment containing t, the first one at a boundary).
+std::array<double, 6> segmentPose(const VerifyTrajectory::Request& r, double t) {
+  std::size_t i = 0;
+  while (i + 1 < r.polynomial_segments.size() && t > r.polynomial_segments[i].t[1]) ++i;
+  const PolynomialSegment& s = r.polynomial_segments[i];
+  const std::vector<double>* c[6] = {&s.x, &s.y, &s.z, &s.roll, &s.pitch, &s.yaw};
+  std::array<double, 6> p{};
+  for (std::size_t k = 0; k < 6; ++k) p[k] = horner(*c[k], t - s.t[0]);
+  return p;
+}
+
+TEST(VerifyTrajectory, PolynomialSegmentsGiveTheVerdictsOfTheSameWaypointTrajectory) {
+  for (const auto& [th, expected] : {std::make_pair(kGenerous, "SAFE"), std::make_pair(kTiny, "UNSAFE")}) {
+    const auto waypoints = shortTrajectory(th, "linear_rpy");
+    const auto segments = asSegments(waypoints);
+    const auto rw = call(waypoints);
+    const auto rs = call(segments);
+    ASSERT_TRUE(rw.success) << rw.message;
+    ASSERT_TRUE(rs.success) << rs.message;
+    EXPECT_EQ(rw.verdict, expected) << rw.message;
+    EXPECT_EQ(rs.verdict, expected) << rs.message;
+    if (rs.verdict != "UNSAFE") continue;
+    // The witness: a time of the span, the segments' pose there, violating the threshold (independent oracle).
+    ASSERT_TRUE(rs.has_witness);
+    EXPECT_GE(rs.witness_t, 1.0);
+    EXPECT_LE(rs.witness_t, 4.0);
+    const auto pose = segmentPose(segments, rs.witness_t);
+    for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(rs.witness_pose[k], pose[k], 1e-9) << k;
+    const auto c = static_cast<std::size_t>(rs.witness_component);
+    ASSERT_LT(c, 6u);
+    EXPECT_GT(worstErrorAt(pose)[c], th[c]);
+  }
+  // max_error: overlapping brackets.
+  auto waypoints = shortTrajectory(kNone, "linear_rpy");
+  waypoints.mode = "max_error";
+  waypoints.alpha = 0.05;
+  const auto rw = call(waypoints);
+  const auto rs = call(asSegments(waypoints));
+  ASSERT_TRUE(rw.success && rs.success) << rw.message << " / " << rs.message;
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_GT(rs.lower_bound[k], 0.0) << k;
+    EXPECT_LE(rs.lower_bound[k], rw.upper_bound[k]) << k;
+    EXPECT_LE(rw.lower_bound[k], rs.upper_bound[k]) << k;
+  }
+}
+
+TEST(VerifyTrajectory, QuinticSegmentsMaxErrorContainsTheSampledMaxima) {
+  // Two quintic-ish segments (curved in every coordinate) inside the paper workspace.
+  VerifyTrajectory::Request r = asSegments(shortTrajectory(kNone, "linear_rpy"));
+  r.polynomial_segments.resize(1);
+  PolynomialSegment& a = r.polynomial_segments[0];
+  a.t = {0.5, 1.5};
+  a.x = {-0.01, 0.02, -0.01, 0.0, 0.0, 0.001};
+  a.y = {0.0, 0.0, 0.01};
+  a.z = {0.47, 0.005, 0.0, 0.002};
+  a.roll = {0.0, 0.02, -0.02};
+  a.pitch = {0.01, -0.01};
+  a.yaw = {0.0, 0.0, 0.0, 0.0, 0.0, 0.01};
+  PolynomialSegment b;
+  b.t = {1.5, 2.0};
+  b.x = {horner(a.x, 1.0), -0.01};
+  b.y = {horner(a.y, 1.0)};
+  b.z = {horner(a.z, 1.0), 0.0, -0.01};
+  b.roll = {horner(a.roll, 1.0)};
+  b.pitch = {horner(a.pitch, 1.0), 0.0, 0.02};
+  b.yaw = {horner(a.yaw, 1.0), 0.005};
+  r.polynomial_segments.push_back(b);
+  r.mode = "max_error";
+  r.alpha = 0.02;
+  const auto res = call(r);
+  ASSERT_TRUE(res.success) << res.message;
+  EXPECT_TRUE(res.converged) << res.message;
+  std::array<double, 6> sampled{};
+  for (int n = 0; n <= 3000; ++n) {
+    const auto f = worstErrorAt(segmentPose(r, 0.5 + 1.5 * n / 3000.0));
+    for (std::size_t k = 0; k < 6; ++k) sampled[k] = std::max(sampled[k], f[k]);
+  }
+  ASSERT_EQ(res.lower_bound_times.size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_LE(sampled[k], res.upper_bound[k]) << k;                 // certified over every time
+    EXPECT_GE(sampled[k], res.lower_bound[k] * (1.0 - 1e-3)) << k;  // dense sampling gets near the maximum
+    EXPECT_LE(res.lower_bound[k], worstErrorAt(segmentPose(r, res.lower_bound_times[k]))[k] * (1 + 1e-9)) << k;
+  }
+}
+
+TEST(VerifyTrajectory, MalformedPolynomialSegmentsAreRefusedByName) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto good = asSegments(shortTrajectory(kGenerous, "linear_rpy"));
+  {
+    auto r = good;
+    r.times = {1.0, 2.0};
+    expectRefused(r, "polynomial_segments");  // both forms
+  }
+  {
+    auto r = good;
+    r.interpolation = "slerp";
+    expectRefused(r, "interpolation");
+  }
+  {
+    auto r = good;
+    r.polynomial_segments[1].t[0] = 2.5;  // a gap after the first segment
+    expectRefused(r, "polynomial_segments[1].t");
+  }
+  {
+    auto r = good;
+    r.polynomial_segments[0].t = {2.0, 1.0};
+    expectRefused(r, "polynomial_segments[0].t");
+  }
+  {
+    auto r = good;
+    r.polynomial_segments[0].y[1] = nan;
+    expectRefused(r, "polynomial_segments[0].y[1]");
+  }
+  {
+    auto r = good;
+    r.polynomial_segments[1].z.clear();
+    expectRefused(r, "polynomial_segments[1].z");
+  }
+  {
+    auto r = good;
+    r.polynomial_segments.clear();
+    expectRefused(r, "times");  // neither form
+  }
+  const auto ok = call(good);
+  EXPECT_TRUE(ok.success) << ok.message;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // ROS-free description of one /verify_workspace request and of its outcome: what the ROS layer hands to the core
-// and gets back. Plain std/Eigen types only, already validated by fromRequest() (VerifyWorkspaceConversion.hpp).
+// and gets back. Plain std/Eigen types only (and the core's plain PolynomialTrajectory::Segment), already validated
+// by fromRequest() (VerifyWorkspaceConversion.hpp, VerifyTrajectoryConversion.hpp).
 // CoreBridge.hpp converts them to the core's domain::Workspace / verify::VerifierOptions and the core's
 // verify::VerifierResult back to a WorkspaceOutcome.
 #pragma once
@@ -11,6 +12,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
@@ -40,12 +43,15 @@ struct WorkspaceSpec {
 
 enum class QueryMode { Verify, MaxError };
 
-/// A trajectory through timed waypoints in the base frame (/verify_trajectory): times (s) strictly increasing, poses
-/// x, y, z (m), roll, pitch, yaw (rad), R = Rz(yaw) Ry(pitch) Rx(roll); already validated.
+/// A trajectory of /verify_trajectory in the query's frame, already validated: timed waypoints (times (s) strictly
+/// increasing, poses x, y, z (m), roll, pitch, yaw (rad), R = Rz(yaw) Ry(pitch) Rx(roll)), or polynomial segments
+/// (`segments` not empty: then `times` are the segment boundaries and `poses` the poses at the ends of every segment,
+/// for reports only).
 struct TrajectorySpec {
   std::vector<double> times;
   std::vector<std::array<double, 6>> poses;
-  bool slerp = true;  ///< orientation interpolation: slerp, or linear in roll, pitch, yaw
+  bool slerp = true;  ///< waypoints: orientation interpolation, slerp or linear in roll, pitch, yaw
+  std::vector<domain::PolynomialTrajectory::Segment> segments;  ///< the polynomial segments (empty: waypoints)
   /// t_0 + u (t_N - t_0), clamped to [t_0, t_N] (s).
   double timeOf(double u) const;
 };
