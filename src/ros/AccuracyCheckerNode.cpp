@@ -418,11 +418,11 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
       progress_pub_.publish(last);
     }
     if (outcome.success) {
-      // ~boxes draws workspace boxes; a trajectory's boxes are time intervals (in the response instead).
-      if (!query.is_trajectory) {
-        boxes_pub_.publish(makeJobMarkers(query, outcome, names_.base_link, result.header.stamp,
-                                          static_cast<std::size_t>(max_box_markers_)));
-      }
+      // ~boxes: a workspace's region and undecided boxes, or a trajectory's path (its boxes are time intervals).
+      boxes_pub_.publish(query.is_trajectory
+                             ? makeTrajectoryMarkers(query, outcome, names_.base_link, result.header.stamp)
+                             : makeJobMarkers(query, outcome, names_.base_link, result.header.stamp,
+                                              static_cast<std::size_t>(max_box_markers_)));
       ROS_INFO("%s: job %lu: %s%s%s in %.3f s, %lu boxes: %s", via.c_str(), static_cast<unsigned long>(id),
                outcome.verdict.c_str(), outcome.reason.empty() ? "" : " ", outcome.reason.c_str(), outcome.seconds,
                static_cast<unsigned long>(outcome.boxes), outcome.message.c_str());

@@ -2,10 +2,17 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
+#include <limits>
+#include <memory>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
+
+#include "pkm_accuracy/ros/CoreBridge.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
@@ -51,6 +58,94 @@ class Placement {
   Eigen::Quaterniond orientation_;
 };
 
+visualization_msgs::Marker newMarker(const std::string& frame, const ros::Time& stamp, const char* ns, int id,
+                                     int type) {
+  visualization_msgs::Marker m;
+  m.header.frame_id = frame;
+  m.header.stamp = stamp;
+  m.ns = ns;
+  m.id = id;
+  m.type = type;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  return m;
+}
+
+/// Clears the previous job's markers.
+visualization_msgs::Marker deleteAll(const std::string& frame, const ros::Time& stamp) {
+  visualization_msgs::Marker clear;
+  clear.header.frame_id = frame;
+  clear.header.stamp = stamp;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  clear.pose.orientation.w = 1.0;
+  return clear;
+}
+
+/// The witness, the singular segment and the first uncertainty-sensitive pose (with its search box when
+/// `sensitiveRegion`), sized by `unit` (m).
+void addPoseMarkers(const WorkspaceOutcome& o, const Placement& placement, const std::string& frame,
+                    const ros::Time& stamp, double unit, bool sensitiveRegion, visualization_msgs::MarkerArray& array) {
+  const double thin = 1e-3 * unit;
+  if (o.has_witness) {
+    visualization_msgs::Marker m = newMarker(frame, stamp, kMarkerNsWitness, 0, visualization_msgs::Marker::SPHERE);
+    placement.place(m, Eigen::Vector3d(o.witness_pose[0], o.witness_pose[1], o.witness_pose[2]));
+    m.scale.x = m.scale.y = m.scale.z = 0.04 * unit;
+    m.color = color(1.0f, 0.0f, 0.0f, 1.0f);
+    array.markers.push_back(m);
+  }
+
+  // A certified singular pose: the segment it lies on (the positions of its two ends; query frame).
+  if (o.singular) {
+    visualization_msgs::Marker m = newMarker(frame, stamp, kMarkerNsSingular, 0, visualization_msgs::Marker::LINE_LIST);
+    const Eigen::Vector3d from(o.singular_poses[0], o.singular_poses[1], o.singular_poses[2]);
+    const Eigen::Vector3d to(o.singular_poses[6], o.singular_poses[7], o.singular_poses[8]);
+    placement.place(m, from);
+    m.scale.x = 6e-3 * unit;
+    m.color = color(1.0f, 0.0f, 0.6f, 1.0f);
+    m.points.push_back(point(Eigen::Vector3d::Zero()));
+    m.points.push_back(point(to - from));
+    array.markers.push_back(m);
+  }
+
+  // The first uncertainty-sensitive pose and its region (the search box it was found in).
+  if (o.sensitive_poses > 0 && o.sensitive.component >= 0) {
+    const SensitiveSummary& sp = o.sensitive;
+    visualization_msgs::Marker m = newMarker(frame, stamp, kMarkerNsSensitive, 0, visualization_msgs::Marker::SPHERE);
+    placement.place(m, Eigen::Vector3d(sp.pose[0], sp.pose[1], sp.pose[2]));
+    m.scale.x = m.scale.y = m.scale.z = 0.04 * unit;
+    m.color = color(1.0f, 0.9f, 0.0f, 1.0f);
+    array.markers.push_back(m);
+    if (sensitiveRegion) {
+      visualization_msgs::Marker r = newMarker(frame, stamp, kMarkerNsSensitive, 1, visualization_msgs::Marker::CUBE);
+      const Box6& b = sp.region;
+      placement.place(r,
+                      Eigen::Vector3d(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
+      r.scale.x = std::max(b.hi[0] - b.lo[0], thin);
+      r.scale.y = std::max(b.hi[1] - b.lo[1], thin);
+      r.scale.z = std::max(b.hi[2] - b.lo[2], thin);
+      r.color = color(1.0f, 0.9f, 0.0f, 0.35f);
+      array.markers.push_back(r);
+    }
+  }
+}
+
+/// The verdict as a text at `where` (query frame).
+void addLabel(const WorkspaceOutcome& o, const Placement& placement, const std::string& frame, const ros::Time& stamp,
+              const Eigen::Vector3d& where, double unit, const char* what, visualization_msgs::MarkerArray& array) {
+  visualization_msgs::Marker m =
+      newMarker(frame, stamp, kMarkerNsLabel, 0, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  placement.place(m, where);
+  m.scale.z = 0.06 * unit;
+  m.color = color(1.0f, 1.0f, 1.0f, 1.0f);
+  char text[160];
+  std::snprintf(text, sizeof(text), "job %llu: %s%s%s, %llu undecided %s", static_cast<unsigned long long>(o.job_id),
+                o.success ? o.verdict.c_str() : "failed", o.reason.empty() ? "" : " ", o.reason.c_str(),
+                static_cast<unsigned long long>(o.undecided_boxes), what);
+  m.text = text;
+  array.markers.push_back(m);
+}
+
 }  // namespace
 
 visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const WorkspaceOutcome& o,
@@ -58,26 +153,8 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
                                                std::size_t max_boxes) {
   visualization_msgs::MarkerArray array;
   const Placement placement(q);
-  auto marker = [&](const char* ns, int id, int type) {
-    visualization_msgs::Marker m;
-    m.header.frame_id = base_frame;
-    m.header.stamp = stamp;
-    m.ns = ns;
-    m.id = id;
-    m.type = type;
-    m.action = visualization_msgs::Marker::ADD;
-    m.pose.orientation.w = 1.0;
-    m.scale.x = m.scale.y = m.scale.z = 1.0;
-    return m;
-  };
-
-  visualization_msgs::Marker clear;
-  clear.header.frame_id = base_frame;
-  clear.header.stamp = stamp;
-  clear.action = visualization_msgs::Marker::DELETEALL;
-  clear.pose.orientation.w = 1.0;
-  array.markers.push_back(clear);
-
+  auto marker = [&](const char* ns, int id, int type) { return newMarker(base_frame, stamp, ns, id, type); };
+  array.markers.push_back(deleteAll(base_frame, stamp));
   Eigen::Vector3d lo, hi;
   q.workspace.position.boundingBox(lo, hi);
   const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);
@@ -151,60 +228,66 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
     }
   }
 
-  // The witness.
-  if (o.has_witness) {
-    visualization_msgs::Marker m = marker(kMarkerNsWitness, 0, visualization_msgs::Marker::SPHERE);
-    placement.place(m, Eigen::Vector3d(o.witness_pose[0], o.witness_pose[1], o.witness_pose[2]));
-    m.scale.x = m.scale.y = m.scale.z = 0.04 * unit;
-    m.color = color(1.0f, 0.0f, 0.0f, 1.0f);
-    array.markers.push_back(m);
-  }
+  addPoseMarkers(o, placement, base_frame, stamp, unit, /*sensitiveRegion=*/true, array);
+  addLabel(o, placement, base_frame, stamp, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit), unit,
+           "box(es)", array);
+  return array;
+}
 
-  // A certified singular pose: the segment it lies on (the positions of its two ends; query frame).
-  if (o.singular) {
-    visualization_msgs::Marker m = marker(kMarkerNsSingular, 0, visualization_msgs::Marker::LINE_LIST);
-    const Eigen::Vector3d from(o.singular_poses[0], o.singular_poses[1], o.singular_poses[2]);
-    const Eigen::Vector3d to(o.singular_poses[6], o.singular_poses[7], o.singular_poses[8]);
-    placement.place(m, from);
-    m.scale.x = 6e-3 * unit;
-    m.color = color(1.0f, 0.0f, 0.6f, 1.0f);
-    m.points.push_back(point(Eigen::Vector3d::Zero()));
-    m.points.push_back(point(to - from));
-    array.markers.push_back(m);
-  }
+visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& q, const WorkspaceOutcome& o,
+                                                      const std::string& base_frame, const ros::Time& stamp) {
+  visualization_msgs::MarkerArray array;
+  const Placement placement(q);
+  array.markers.push_back(deleteAll(base_frame, stamp));
 
-  // The first uncertainty-sensitive pose and its region (the search box it was found in).
-  if (o.sensitive_poses > 0 && o.sensitive.component >= 0) {
-    const SensitiveSummary& sp = o.sensitive;
-    visualization_msgs::Marker m = marker(kMarkerNsSensitive, 0, visualization_msgs::Marker::SPHERE);
-    placement.place(m, Eigen::Vector3d(sp.pose[0], sp.pose[1], sp.pose[2]));
-    m.scale.x = m.scale.y = m.scale.z = 0.04 * unit;
-    m.color = color(1.0f, 0.9f, 0.0f, 1.0f);
-    array.markers.push_back(m);
-    visualization_msgs::Marker r = marker(kMarkerNsSensitive, 1, visualization_msgs::Marker::CUBE);
-    const Box6& b = sp.region;
-    placement.place(r,
-                    Eigen::Vector3d(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
-    r.scale.x = std::max(b.hi[0] - b.lo[0], thin);
-    r.scale.y = std::max(b.hi[1] - b.lo[1], thin);
-    r.scale.z = std::max(b.hi[2] - b.lo[2], thin);
-    r.color = color(1.0f, 0.9f, 0.0f, 0.35f);
-    array.markers.push_back(r);
+  // The path: pieces [ta, tb] of at most 1/kTrajectoryPieces of the span, at least one per segment (query frame).
+  const std::unique_ptr<domain::PiecewiseTrajectory> trajectory = toTrajectory(q.trajectory);
+  const std::vector<double>& times = trajectory->times();
+  const double span = trajectory->endTime() - trajectory->startTime();
+  std::vector<std::pair<double, double>> pieces;
+  for (std::size_t k = 0; k + 1 < times.size(); ++k) {
+    const int n = std::max(1, static_cast<int>(std::ceil(kTrajectoryPieces * (times[k + 1] - times[k]) / span)));
+    for (int i = 0; i < n; ++i) {
+      pieces.emplace_back(times[k] + (times[k + 1] - times[k]) * i / n,
+                          i + 1 == n ? times[k + 1] : times[k] + (times[k + 1] - times[k]) * (i + 1) / n);
+    }
   }
+  // Positions within a segment (at its end: the segment's own one-sided pose, via a time just inside it).
+  auto position = [&](double t, double inside) {
+    const DVec p = trajectory->pointAtTime(t == inside ? t : std::nextafter(t, inside)).pose;
+    return Eigen::Vector3d(p[0], p[1], p[2]);
+  };
+  const bool proven = q.mode == QueryMode::Verify && o.success && !o.has_witness && o.verdict != "UNSAFE" &&
+                      o.undecided_boxes_recorded == o.undecided_boxes;
+  visualization_msgs::Marker path =
+      newMarker(base_frame, stamp, kMarkerNsTrajectory, 0, visualization_msgs::Marker::LINE_LIST);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  std::vector<Eigen::Vector3d> points;
+  for (const auto& [ta, tb] : pieces) {
+    const Eigen::Vector3d a = position(ta, tb), b = position(tb, ta);
+    points.push_back(a);
+    points.push_back(b);
+    lo = lo.cwiseMin(a).cwiseMin(b);
+    hi = hi.cwiseMax(a).cwiseMax(b);
+    bool undecided = false;
+    for (const auto& [ua, ub] : o.undecided_times) undecided = undecided || (ua <= tb && ta <= ub);
+    const std_msgs::ColorRGBA c = undecided ? color(1.0f, 0.55f, 0.0f, 1.0f)
+                                  : proven  ? color(0.1f, 0.8f, 0.2f, 1.0f)
+                                            : color(0.2f, 0.6f, 1.0f, 1.0f);
+    path.colors.push_back(c);
+    path.colors.push_back(c);
+  }
+  const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);
+  const double unit = std::max(size.norm(), 1e-3);  // scale of the drawing (m)
+  placement.place(path, Eigen::Vector3d::Zero());
+  for (const Eigen::Vector3d& v : points) path.points.push_back(point(v));
+  path.scale.x = 4e-3 * unit;
+  path.color = color(1.0f, 1.0f, 1.0f, 1.0f);  // (per-point colours above)
+  array.markers.push_back(path);
 
-  // The verdict.
-  {
-    visualization_msgs::Marker m = marker(kMarkerNsLabel, 0, visualization_msgs::Marker::TEXT_VIEW_FACING);
-    placement.place(m, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit));
-    m.scale.z = 0.06 * unit;
-    m.color = color(1.0f, 1.0f, 1.0f, 1.0f);
-    char text[160];
-    std::snprintf(text, sizeof(text), "job %llu: %s%s%s, %llu undecided box(es)",
-                  static_cast<unsigned long long>(o.job_id), o.success ? o.verdict.c_str() : "failed",
-                  o.reason.empty() ? "" : " ", o.reason.c_str(), static_cast<unsigned long long>(o.undecided_boxes));
-    m.text = text;
-    array.markers.push_back(m);
-  }
+  addPoseMarkers(o, placement, base_frame, stamp, unit, /*sensitiveRegion=*/false, array);
+  addLabel(o, placement, base_frame, stamp, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit), unit,
+           "time interval(s)", array);
   return array;
 }
 

@@ -44,9 +44,6 @@ domain::Workspace toWorkspace(const WorkspaceSpec& spec) {
   return domain::Workspace(toRegion(spec.position), angles);
 }
 
-namespace {
-
-/// The trajectory of a query, in its frame_id.
 std::unique_ptr<domain::PiecewiseTrajectory> toTrajectory(const TrajectorySpec& spec) {
   if (!spec.segments.empty()) return std::make_unique<domain::PolynomialTrajectory>(spec.segments);
   std::vector<domain::WaypointTrajectory::Waypoint> waypoints(spec.times.size());
@@ -58,8 +55,6 @@ std::unique_ptr<domain::PiecewiseTrajectory> toTrajectory(const TrajectorySpec& 
       std::move(waypoints), spec.slerp ? domain::WaypointTrajectory::Interpolation::Slerp
                                        : domain::WaypointTrajectory::Interpolation::LinearRpy);
 }
-
-}  // namespace
 
 std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query) {
   std::unique_ptr<domain::Domain> inFrame;

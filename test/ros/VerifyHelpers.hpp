@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
+#include <mutex>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -119,6 +121,33 @@ inline ::testing::AssertionResult poseInWorkspace(const std::array<double, 6>& p
   }
   return ::testing::AssertionSuccess();
 }
+
+/// Keeps the last message of a latched topic; waits for one that satisfies a predicate.
+template <class Msg>
+class Latest {
+ public:
+  explicit Latest(const std::string& topic)
+      : sub_(ros::NodeHandle().subscribe<Msg>(topic, 10, [this](const boost::shared_ptr<const Msg>& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          last_ = m;
+        })) {}
+  boost::shared_ptr<const Msg> waitFor(const std::function<bool(const Msg&)>& ok, double timeout = 10.0) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
+    while (ros::WallTime::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (last_ && ok(*last_)) return last_;
+      }
+      ros::WallDuration(0.02).sleep();
+    }
+    return nullptr;
+  }
+
+ private:
+  std::mutex mutex_;
+  boost::shared_ptr<const Msg> last_;
+  ros::Subscriber sub_;
+};
 
 template <class Array>
 std::array<double, 6> to6(const Array& a) {

@@ -70,33 +70,6 @@ VerifyWorkspace::Request cylinder(double cx, double cy, double z0, double yaw0, 
   return r;
 }
 
-/// Keeps the last message of a latched topic; waits for one that satisfies a predicate.
-template <class Msg>
-class Latest {
- public:
-  explicit Latest(const std::string& topic)
-      : sub_(ros::NodeHandle().subscribe<Msg>(topic, 10, [this](const boost::shared_ptr<const Msg>& m) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          last_ = m;
-        })) {}
-  boost::shared_ptr<const Msg> waitFor(const std::function<bool(const Msg&)>& ok, double timeout = 10.0) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
-    while (ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (last_ && ok(*last_)) return last_;
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return nullptr;
-  }
-
- private:
-  std::mutex mutex_;
-  boost::shared_ptr<const Msg> last_;
-  ros::Subscriber sub_;
-};
-
 const visualization_msgs::Marker* find(const visualization_msgs::MarkerArray& a, const std::string& ns) {
   for (const auto& m : a.markers)
     if (m.ns == ns) return &m;

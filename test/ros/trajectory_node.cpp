@@ -14,10 +14,13 @@
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include "VerifyHelpers.hpp"
 #include "pkm_accuracy/VerificationResult.h"
 #include "pkm_accuracy/VerifyTrajectory.h"
+#include "pkm_accuracy/ros/BoxMarkers.hpp"
+#include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
 
 namespace {
 
@@ -441,6 +444,91 @@ TEST(VerifyTrajectory, MalformedPolynomialSegmentsAreRefusedByName) {
   }
   const auto ok = call(good);
   EXPECT_TRUE(ok.success) << ok.message;
+}
+
+// ---- ~boxes: the path ------------------------------------------------------------------------------------------
+
+const visualization_msgs::Marker* findMarker(const visualization_msgs::MarkerArray& a, const std::string& ns) {
+  for (const auto& m : a.markers)
+    if (m.ns == ns) return &m;
+  return nullptr;
+}
+
+bool green(const std_msgs::ColorRGBA& c) { return c.g > 0.7f && c.r < 0.5f && c.b < 0.5f; }
+bool orange(const std_msgs::ColorRGBA& c) { return c.r > 0.9f && c.g > 0.3f && c.g < 0.7f && c.b < 0.1f; }
+bool blue(const std_msgs::ColorRGBA& c) { return c.b > 0.9f && c.r < 0.5f; }
+
+TEST(VerifyTrajectory, BoxesDrawThePathAndTheWitness) {
+  pkm_accuracy_test::Latest<visualization_msgs::MarkerArray> boxes("/pkm_accuracy/boxes");
+  for (const auto& th : {kGenerous, kTiny}) {
+    const auto req = shortTrajectory(th, "slerp");
+    const auto res = call(req);
+    ASSERT_TRUE(res.success) << res.message;
+    const std::string label = "job " + std::to_string(res.job_id) + ":";
+    const auto msg = boxes.waitFor([&](const visualization_msgs::MarkerArray& a) {
+      const auto* l = findMarker(a, "label");
+      return l && l->text.compare(0, label.size(), label) == 0;
+    });
+    ASSERT_TRUE(msg) << "no ~boxes for " << label;
+    const auto* path = findMarker(*msg, pkm_accuracy::ros_layer::kMarkerNsTrajectory);
+    ASSERT_TRUE(path);
+    EXPECT_EQ(path->type, visualization_msgs::Marker::LINE_LIST);
+    EXPECT_EQ(path->header.frame_id, "base_link");
+    ASSERT_GE(path->points.size(), 2u * pkm_accuracy::ros_layer::kTrajectoryPieces);
+    ASSERT_EQ(path->colors.size(), path->points.size());
+    // From the first waypoint to the last (the marker's pose is the identity in the base frame).
+    EXPECT_NEAR(path->points.front().x, req.x.front(), 1e-12);
+    EXPECT_NEAR(path->points.front().z, req.z.front(), 1e-12);
+    EXPECT_NEAR(path->points.back().y, req.y.back(), 1e-12);
+    EXPECT_NEAR(path->points.back().z, req.z.back(), 1e-12);
+    const auto* witness = findMarker(*msg, pkm_accuracy::ros_layer::kMarkerNsWitness);
+    if (res.verdict == "SAFE") {
+      for (const auto& c : path->colors) EXPECT_TRUE(green(c));  // every time proven within the thresholds
+      EXPECT_FALSE(witness);
+    } else {
+      ASSERT_EQ(res.verdict, "UNSAFE");
+      ASSERT_TRUE(witness);
+      EXPECT_NEAR(witness->pose.position.x, res.witness_pose[0], 1e-12);
+      EXPECT_NEAR(witness->pose.position.z, res.witness_pose[2], 1e-12);
+      for (const auto& c : path->colors) EXPECT_FALSE(green(c));  // the search stopped at the witness
+    }
+  }
+}
+
+TEST(VerifyTrajectory, PathColoursFollowTheUndecidedIntervals) {
+  // makeTrajectoryMarkers on an outcome with one undecided interval, [2.5, 3] s of the [1, 4] s trajectory.
+  pkm_accuracy::ros_layer::WorkspaceQuery q;
+  std::string error;
+  pkm_accuracy::ros_layer::QueryDefaults defaults;
+  ASSERT_TRUE(pkm_accuracy::ros_layer::fromRequest(shortTrajectory(kGenerous), "base_link", defaults, q, error))
+      << error;
+  pkm_accuracy::ros_layer::WorkspaceOutcome o;
+  o.success = true;
+  o.verdict = "UNDECIDED";
+  o.reason = "time_budget";
+  o.undecided_boxes = o.undecided_boxes_recorded = 1;
+  o.undecided_times = {{2.5, 3.0}};
+  const auto a = pkm_accuracy::ros_layer::makeTrajectoryMarkers(q, o, "base_link", ros::Time(1.0));
+  const auto* path = findMarker(a, pkm_accuracy::ros_layer::kMarkerNsTrajectory);
+  ASSERT_TRUE(path);
+  ASSERT_EQ(path->colors.size(), path->points.size());
+  // The pieces meeting [2.5, 3] s are orange, the others green (proven). The [2, 4] s segment has ceil(200 * 2 / 3)
+  // = 134 pieces of 2 / 134 s; those meeting the interval are i = 33 ... 67 (the last one touches it at 3 s): 35.
+  std::size_t orangePieces = 0, greenPieces = 0;
+  for (std::size_t i = 0; i < path->colors.size(); i += 2) {
+    orangePieces += orange(path->colors[i]) ? 1 : 0;
+    greenPieces += green(path->colors[i]) ? 1 : 0;
+  }
+  EXPECT_EQ(orangePieces + greenPieces, path->colors.size() / 2);
+  EXPECT_EQ(orangePieces, 35u);
+  // Not every undecided interval recorded: no claim outside the recorded ones (blue).
+  o.undecided_boxes = 2;
+  const auto b = pkm_accuracy::ros_layer::makeTrajectoryMarkers(q, o, "base_link", ros::Time(1.0));
+  const auto* unproven = findMarker(b, pkm_accuracy::ros_layer::kMarkerNsTrajectory);
+  ASSERT_TRUE(unproven);
+  for (std::size_t i = 0; i < unproven->colors.size(); ++i) {
+    EXPECT_TRUE(orange(unproven->colors[i]) || blue(unproven->colors[i])) << i;
+  }
 }
 
 }  // namespace

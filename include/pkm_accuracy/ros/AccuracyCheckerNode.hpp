@@ -2,11 +2,11 @@
 // anchors as static TF frames and answers /verify_workspace (service) and ~verify_workspace (actionlib action) with
 // the core verifier, publishing ~progress while a job runs, and its result on ~verdict (latched) and its boxes on
 // ~boxes (visualization_msgs/MarkerArray, latched) when it ends. /verify_trajectory (service) and ~verify_trajectory
-// (action) verify every pose of a waypoint trajectory through the same jobs (limit, busy answer, ~progress, ~verdict;
-// no ~boxes); both actions share one implementation (onGoal / runGoal, templates on the action type). A workspace or
-// trajectory given in another frame than the base frame is looked up in tf2 at request time and handed to the core as
-// a domain::TransformedDomain. The ROS layer only translates: every decision about accuracy is the core's, behind the
-// seam verifyWorkspace().
+// (action) verify every pose of a trajectory (waypoints or polynomial segments) through the same jobs (limit, busy
+// answer, ~progress, ~verdict; ~boxes draws its path); both actions share one implementation (onGoal / runGoal,
+// templates on the action type). A workspace or trajectory given in another frame than the base frame is looked up in
+// tf2 at request time and handed to the core as a domain::TransformedDomain. The ROS layer only translates: every
+// decision about accuracy is the core's, behind the seam verifyWorkspace().
 #pragma once
 
 #include <atomic>

@@ -3,6 +3,8 @@
 // projection, orange cubes), the witness of an UNSAFE verdict (red sphere), the first uncertainty-sensitive pose and
 // its region (yellow sphere and translucent cube) and a text label with the verdict. Only
 // what the verifier reports is drawn: it records undecided boxes and the witness, not the boxes it proved safe.
+// A trajectory job is drawn as its path (the positions of the platform frame's origin, sampled in time) coloured by
+// what the verifier reports about each stretch, with the same witness, singular, sensitive and label markers.
 #pragma once
 
 #include <cstddef>
@@ -28,6 +30,12 @@ constexpr const char* kMarkerNsSensitive = "sensitive";
 /// two poses of singular_poses, on which J^-1 is singular.
 constexpr const char* kMarkerNsSingular = "singular";
 constexpr const char* kMarkerNsLabel = "label";  ///< id 0: TEXT_VIEW_FACING, "job N: VERDICT ..."
+/// Trajectory jobs: id 0: LINE_LIST, the path in pieces of at most 1/kTrajectoryPieces of the time span (and at
+/// least one per segment), each coloured: orange where it meets a recorded undecided time interval; green elsewhere
+/// when every other time is proven within the thresholds (verify mode, no witness, every undecided interval
+/// recorded); blue otherwise (no claim: max_error mode, or an UNSAFE verdict whose search stopped early).
+constexpr const char* kMarkerNsTrajectory = "trajectory";
+constexpr int kTrajectoryPieces = 200;
 
 /// The markers of a finished job: first a DELETEALL (clears the previous job's), then the markers above. Poses of
 /// the query's frame are mapped to `base_frame` with the query's transform (poses only: display, not a proof).
@@ -35,6 +43,12 @@ constexpr const char* kMarkerNsLabel = "label";  ///< id 0: TEXT_VIEW_FACING, "j
 visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& query, const WorkspaceOutcome& outcome,
                                                const std::string& base_frame, const ros::Time& stamp,
                                                std::size_t max_boxes);
+
+/// The markers of a finished trajectory job (query.is_trajectory): a DELETEALL, the path (kMarkerNsTrajectory), the
+/// witness, singular and sensitive markers and the label; positions of the query's frame mapped to `base_frame` as
+/// above. @throws InvalidArgument if the query's trajectory was not validated.
+visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& query, const WorkspaceOutcome& outcome,
+                                                      const std::string& base_frame, const ros::Time& stamp);
 
 }  // namespace ros_layer
 }  // namespace pkm_accuracy

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 
+#include "pkm_accuracy/core/domain/PiecewiseTrajectory.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/model/RobotModel.hpp"
 #include "pkm_accuracy/core/verify/VerifierOptions.hpp"
@@ -25,6 +26,10 @@ struct JobHooks {
 
 /// The workspace of a query. @throws InvalidArgument (naming the range) on a range the core refuses.
 domain::Workspace toWorkspace(const WorkspaceSpec& spec);
+
+/// The trajectory of a query (waypoints or polynomial segments), in its frame_id.
+/// @throws InvalidArgument if the spec was not validated (fromRequest() of VerifyTrajectoryConversion.hpp checks it).
+std::unique_ptr<domain::PiecewiseTrajectory> toTrajectory(const TrajectorySpec& spec);
 
 /// The search domain of a query: its workspace or trajectory, or, when the query has a transform (frame_id other than
 /// the base frame), the core's domain::TransformedDomain of it (which decides which transforms it supports).
