@@ -52,6 +52,14 @@ class Placement {
     m.pose.orientation.z = orientation_.z();
   }
 
+  /// Sets a CUBE marker to the position projection of a box (query frame), no thinner than `thin` (m).
+  void placeBox(visualization_msgs::Marker& m, const Box6& b, double thin) const {
+    place(m, Eigen::Vector3d(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
+    m.scale.x = std::max(b.hi[0] - b.lo[0], thin);
+    m.scale.y = std::max(b.hi[1] - b.lo[1], thin);
+    m.scale.z = std::max(b.hi[2] - b.lo[2], thin);
+  }
+
  private:
   Eigen::Matrix3d rotation_;
   Eigen::Vector3d translation_;
@@ -118,12 +126,7 @@ void addPoseMarkers(const WorkspaceOutcome& o, const Placement& placement, const
     array.markers.push_back(m);
     if (sensitiveRegion) {
       visualization_msgs::Marker r = newMarker(frame, stamp, kMarkerNsSensitive, 1, visualization_msgs::Marker::CUBE);
-      const Box6& b = sp.region;
-      placement.place(r,
-                      Eigen::Vector3d(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
-      r.scale.x = std::max(b.hi[0] - b.lo[0], thin);
-      r.scale.y = std::max(b.hi[1] - b.lo[1], thin);
-      r.scale.z = std::max(b.hi[2] - b.lo[2], thin);
+      placement.placeBox(r, sp.region, thin);
       r.color = color(1.0f, 0.9f, 0.0f, 0.35f);
       array.markers.push_back(r);
     }
@@ -218,11 +221,7 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
       const std::array<double, 6> key = {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
       if (!seen.insert(key).second) continue;
       visualization_msgs::Marker m = marker(kMarkerNsUndecided, id++, visualization_msgs::Marker::CUBE);
-      placement.place(m,
-                      Eigen::Vector3d(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
-      m.scale.x = std::max(b.hi[0] - b.lo[0], thin);
-      m.scale.y = std::max(b.hi[1] - b.lo[1], thin);
-      m.scale.z = std::max(b.hi[2] - b.lo[2], thin);
+      placement.placeBox(m, b, thin);
       m.color = color(1.0f, 0.55f, 0.0f, 0.5f);
       array.markers.push_back(m);
     }

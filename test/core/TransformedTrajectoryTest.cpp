@@ -16,6 +16,7 @@
 
 #include <Eigen/Geometry>
 
+#include "RotationOracle.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/TransformedDomain.hpp"
@@ -90,29 +91,14 @@ DVec midOf(const IVec& v) {
   return m;
 }
 
-using Mat3L = std::array<std::array<long double, 3>, 3>;
-
-Mat3L productL(const Mat3L& a, const Mat3L& b) {
-  Mat3L c{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) c[i][j] += a[i][k] * b[k][j];
-  return c;
-}
-
-Mat3L rpyL(long double r, long double p, long double y) {
-  const Mat3L rx = {{{1, 0, 0}, {0, std::cos(r), -std::sin(r)}, {0, std::sin(r), std::cos(r)}}};
-  const Mat3L ry = {{{std::cos(p), 0, std::sin(p)}, {0, 1, 0}, {-std::sin(p), 0, std::cos(p)}}};
-  const Mat3L rz = {{{std::cos(y), -std::sin(y), 0}, {std::sin(y), std::cos(y), 0}, {0, 0, 1}}};
-  return productL(rz, productL(ry, rx));
-}
+using test::Mat3L;
 
 /// The base-frame pose of the frame-F pose p (long double, principal RPY; roll and yaw within pi of `near`).
 std::array<long double, 6> toBaseL(const DVec& p, const DVec& near) {
-  const Mat3L rt = rpyL(kRoll, kPitch, kYaw);
+  const Mat3L rt = test::rpy(kRoll, kPitch, kYaw);
   std::array<long double, 6> out{};
   for (int k = 0; k < 3; ++k) out[k] = kT[k] + rt[k][0] * p[0] + rt[k][1] * p[1] + rt[k][2] * p[2];
-  const Mat3L n = productL(rt, rpyL(p[3], p[4], p[5]));
+  const Mat3L n = test::product(rt, test::rpy(p[3], p[4], p[5]));
   out[3] = std::atan2(n[2][1], n[2][2]);
   out[4] = std::atan2(-n[2][0], std::sqrt(n[0][0] * n[0][0] + n[1][0] * n[1][0]));
   out[5] = std::atan2(n[1][0], n[0][0]);

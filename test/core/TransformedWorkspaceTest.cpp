@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 
+#include "RotationOracle.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/TransformedDomain.hpp"
@@ -42,23 +43,9 @@ Workspace smallBox(double dx = 0.0, double dy = 0.0, double dz = 0.0, double dya
                                 Interval(-0.01 + dyaw, 0.01 + dyaw)});
 }
 
-using Mat3L = std::array<std::array<long double, 3>, 3>;
-
-Mat3L product(const Mat3L& a, const Mat3L& b) {
-  Mat3L c{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) c[i][j] += a[i][k] * b[k][j];
-  return c;
-}
-
-/// The rotation R = Rz(yaw) Ry(pitch) Rx(roll) in long double.
-Mat3L rpy(long double r, long double p, long double y) {
-  const Mat3L rx = {{{1, 0, 0}, {0, std::cos(r), -std::sin(r)}, {0, std::sin(r), std::cos(r)}}};
-  const Mat3L ry = {{{std::cos(p), 0, std::sin(p)}, {0, 1, 0}, {-std::sin(p), 0, std::cos(p)}}};
-  const Mat3L rz = {{{std::cos(y), -std::sin(y), 0}, {std::sin(y), std::cos(y), 0}, {0, 0, 1}}};
-  return product(rz, product(ry, rx));
-}
+using test::Mat3L;
+using test::product;
+using test::rpy;
 
 verify::VerifierOptions verifyOptions(const DVec& thresholds) {
   verify::VerifierOptions o;

@@ -15,6 +15,7 @@
 #include "Ref6.hpp"
 #include "pkm_accuracy/Cancel.h"
 #include "pkm_accuracy/Describe.h"
+#include "pkm_accuracy/VerifyTrajectory.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 
@@ -22,6 +23,7 @@ namespace pkm_accuracy_test {
 
 using pkm_accuracy::Cancel;
 using pkm_accuracy::Describe;
+using pkm_accuracy::VerifyTrajectory;
 using pkm_accuracy::VerifyWorkspace;
 
 constexpr const char* kVerifyService = "/verify_workspace";
@@ -60,6 +62,24 @@ inline const std::array<double, 6> kGenerous = {1e-3, 1e-3, 1e-3, 1e-2, 1e-2, 1e
 inline const std::array<double, 6> kTiny = {1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6};
 inline const std::array<double, 6> kPaper = {1e-4, 1e-4, 1e-4, 1e-3, 1e-3, 1e-3};
 inline const std::array<double, 6> kNone = {0, 0, 0, 0, 0, 0};
+
+/// A /verify_trajectory request: three waypoints at t = 1, 2, 4 s inside the paper workspace: x, y in [-0.01, 0.01],
+/// z in [0.47, 0.48] (m), angles within 0.01 rad (base frame).
+inline VerifyTrajectory::Request shortTrajectory(const std::array<double, 6>& thresholds,
+                                                 const std::string& interpolation = "slerp") {
+  VerifyTrajectory::Request r;
+  r.times = {1.0, 2.0, 4.0};
+  r.x = {-0.01, 0.0, 0.01};
+  r.y = {0.01, -0.005, -0.01};
+  r.z = {0.47, 0.475, 0.48};
+  r.roll = {0.0, 0.01, -0.01};
+  r.pitch = {-0.01, 0.0, 0.01};
+  r.yaw = {0.005, -0.01, 0.0};
+  r.interpolation = interpolation;
+  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = thresholds[k];
+  r.time_budget = 20.0;
+  return r;
+}
 
 inline VerifyWorkspace::Response verify(const VerifyWorkspace::Request& req) {
   EXPECT_TRUE(ros::service::waitForService(kVerifyService, ros::Duration(20.0)));

@@ -37,6 +37,18 @@ constexpr double kYaw = 0.7;
 const Eigen::Vector3d kTilted(0.02, -0.01, 0.1);  // tilted: translated, roll -0.05, pitch 0.1, yaw 0.3
 const Eigen::Vector3d kTiltedRpy(-0.05, 0.1, 0.3);
 
+/// R = Rz(yaw) Ry(pitch) Rx(roll) and the principal roll, pitch, yaw of a rotation (double: the oracle).
+Eigen::Matrix3d rotationOf(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::Vector3d rpyOf(const Eigen::Matrix3d& n) {
+  return {std::atan2(n(2, 1), n(2, 2)), std::atan2(-n(2, 0), std::hypot(n(0, 0), n(1, 0))),
+          std::atan2(n(1, 0), n(0, 0))};
+}
+
 /// The base-frame pose of a pose given in a frame placed at `t` and turned by `yaw` about z (double: the oracle).
 std::array<double, 6> toBase(const std::array<double, 6>& p, const Eigen::Vector3d& t, double yaw) {
   const double c = std::cos(yaw), s = std::sin(yaw);
@@ -195,18 +207,10 @@ TEST(Frames, TiltedFrameGivesTheVerdictsOfTheBaseFrame) {
   // A ball maps to a ball under any rigid transform and a fixed orientation to a fixed orientation: the base-frame
   // request below is the tilted frame's (up to the double rounding of its centre and angles, computed here
   // independently of tf2 and of the node).
-  const Eigen::Matrix3d rt = (Eigen::AngleAxisd(kTiltedRpy.z(), Eigen::Vector3d::UnitZ()) *
-                              Eigen::AngleAxisd(kTiltedRpy.y(), Eigen::Vector3d::UnitY()) *
-                              Eigen::AngleAxisd(kTiltedRpy.x(), Eigen::Vector3d::UnitX()))
-                                 .toRotationMatrix();
+  const Eigen::Matrix3d rt = rotationOf(kTiltedRpy.x(), kTiltedRpy.y(), kTiltedRpy.z());
   const Eigen::Vector3d centreBase(0.01, -0.01, 0.475), rpyFrame(0.02, -0.1, -0.3);
   const Eigen::Vector3d centreFrame = rt.transpose() * (centreBase - kTilted);
-  const Eigen::Matrix3d n = rt * (Eigen::AngleAxisd(rpyFrame.z(), Eigen::Vector3d::UnitZ()) *
-                                  Eigen::AngleAxisd(rpyFrame.y(), Eigen::Vector3d::UnitY()) *
-                                  Eigen::AngleAxisd(rpyFrame.x(), Eigen::Vector3d::UnitX()))
-                                     .toRotationMatrix();
-  const Eigen::Vector3d rpyBase(std::atan2(n(2, 1), n(2, 2)), std::atan2(-n(2, 0), std::hypot(n(0, 0), n(1, 0))),
-                                std::atan2(n(1, 0), n(0, 0)));
+  const Eigen::Vector3d rpyBase = rpyOf(rt * rotationOf(rpyFrame.x(), rpyFrame.y(), rpyFrame.z()));
   auto ball = [](const Eigen::Vector3d& c, const Eigen::Vector3d& rpy, const std::array<double, 6>& th) {
     VerifyWorkspace::Request r = smallRequest(th);
     r.region_type = "sphere";
@@ -258,33 +262,12 @@ TEST(Frames, UnknownFrameIsRefusedNamingIt) {
 
 // ---- /verify_trajectory in frames ----------------------------------------------------------------------------
 
-Eigen::Matrix3d rotationOf(double roll, double pitch, double yaw) {
-  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
-Eigen::Vector3d rpyOf(const Eigen::Matrix3d& n) {
-  return {std::atan2(n(2, 1), n(2, 2)), std::atan2(-n(2, 0), std::hypot(n(0, 0), n(1, 0))),
-          std::atan2(n(1, 0), n(0, 0))};
-}
-
-/// Three waypoints at t = 1, 2, 4 s inside the paper workspace (base frame).
+/// shortTrajectory() in `mode` (max_error to 5%).
 VerifyTrajectory::Request baseTrajectory(const std::array<double, 6>& th, const std::string& interpolation,
                                          const std::string& mode = "verify") {
-  VerifyTrajectory::Request r;
-  r.times = {1.0, 2.0, 4.0};
-  r.x = {-0.01, 0.0, 0.01};
-  r.y = {0.01, -0.005, -0.01};
-  r.z = {0.47, 0.475, 0.48};
-  r.roll = {0.0, 0.01, -0.01};
-  r.pitch = {-0.01, 0.0, 0.01};
-  r.yaw = {0.005, -0.01, 0.0};
-  r.interpolation = interpolation;
+  VerifyTrajectory::Request r = shortTrajectory(th, interpolation);
   r.mode = mode;
   r.alpha = 0.05;
-  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = th[k];
-  r.time_budget = 20.0;
   return r;
 }
 

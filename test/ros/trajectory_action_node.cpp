@@ -33,6 +33,7 @@ using pkm_accuracy_test::convert;
 using pkm_accuracy_test::filledOutcome;
 using pkm_accuracy_test::kGenerous;
 using pkm_accuracy_test::kNone;
+using pkm_accuracy_test::shortTrajectory;
 using Client = actionlib::SimpleActionClient<VerifyTrajectoryAction>;
 using State = actionlib::SimpleClientGoalState;
 
@@ -40,21 +41,6 @@ constexpr const char* kAction = "/pkm_accuracy/verify_trajectory";
 constexpr const char* kService = "/verify_trajectory";
 
 VerifyTrajectoryGoal goalOf(const VerifyTrajectory::Request& r) { return convert<VerifyTrajectoryGoal>(r); }
-
-/// Three waypoints at t = 1, 2, 4 s inside the paper workspace (as in trajectory_node).
-VerifyTrajectory::Request shortTrajectory(const std::array<double, 6>& thresholds) {
-  VerifyTrajectory::Request r;
-  r.times = {1.0, 2.0, 4.0};
-  r.x = {-0.01, 0.0, 0.01};
-  r.y = {0.01, -0.005, -0.01};
-  r.z = {0.47, 0.475, 0.48};
-  r.roll = {0.0, 0.01, -0.01};
-  r.pitch = {-0.01, 0.0, 0.01};
-  r.yaw = {0.005, -0.01, 0.0};
-  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = thresholds[k];
-  r.time_budget = 20.0;
-  return r;
-}
 
 /// 20000 waypoints (1 s apart) wandering through x, y in [-0.1, 0.1], z in [0.46, 0.49] (m), angles within 0.1 rad:
 /// max_error with a tiny alpha and min_width keeps one thread busy far beyond the time the test waits (budget 30 s).

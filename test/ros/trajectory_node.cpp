@@ -29,28 +29,11 @@ using pkm_accuracy::VerifyTrajectory;
 using pkm_accuracy_test::kGenerous;
 using pkm_accuracy_test::kNone;
 using pkm_accuracy_test::kTiny;
+using pkm_accuracy_test::shortTrajectory;
 using pkm_accuracy_test::to6;
 using pkm_accuracy_test::worstErrorAt;
 
 constexpr const char* kService = "/verify_trajectory";
-
-/// Three waypoints at t = 1, 2, 4 s inside the paper workspace: x, y in [-0.01, 0.01], z in [0.47, 0.48] (m),
-/// angles within 0.01 rad.
-VerifyTrajectory::Request shortTrajectory(const std::array<double, 6>& thresholds,
-                                          const std::string& interpolation = "slerp") {
-  VerifyTrajectory::Request r;
-  r.times = {1.0, 2.0, 4.0};
-  r.x = {-0.01, 0.0, 0.01};
-  r.y = {0.01, -0.005, -0.01};
-  r.z = {0.47, 0.475, 0.48};
-  r.roll = {0.0, 0.01, -0.01};
-  r.pitch = {-0.01, 0.0, 0.01};
-  r.yaw = {0.005, -0.01, 0.0};
-  r.interpolation = interpolation;
-  for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = thresholds[k];
-  r.time_budget = 20.0;
-  return r;
-}
 
 VerifyTrajectory::Response call(const VerifyTrajectory::Request& req) {
   EXPECT_TRUE(ros::service::waitForService(kService, ros::Duration(20.0)));
