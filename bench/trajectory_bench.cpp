@@ -8,12 +8,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <random>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "BenchCommon.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
+#include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
@@ -50,6 +54,27 @@ std::vector<domain::WaypointTrajectory::Waypoint> paperWaypoints(int n) {
   return w;
 }
 
+/// The waypoints w (base frame) expressed in the frame whose pose in the base frame is t, in double:
+/// p_F = R^T (p - t.translation), R_F = R^T R.
+std::vector<domain::WaypointTrajectory::Waypoint> inFrame(std::vector<domain::WaypointTrajectory::Waypoint> w,
+                                                          const domain::RigidTransform& t) {
+  for (auto& p : w) {
+    const Eigen::Vector3d x =
+        t.rotation.transpose() * (Eigen::Vector3d(p.pose[0], p.pose[1], p.pose[2]) - t.translation);
+    const Eigen::Matrix3d r = t.rotation.transpose() * (Eigen::AngleAxisd(p.pose[5], Eigen::Vector3d::UnitZ()) *
+                                                        Eigen::AngleAxisd(p.pose[4], Eigen::Vector3d::UnitY()) *
+                                                        Eigen::AngleAxisd(p.pose[3], Eigen::Vector3d::UnitX()))
+                                                           .toRotationMatrix();
+    p.pose = {x.x(),
+              x.y(),
+              x.z(),
+              std::atan2(r(2, 1), r(2, 2)),
+              std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0))),
+              std::atan2(r(1, 0), r(0, 0))};
+  }
+  return w;
+}
+
 DVec sampledMax(const model::RobotModel& robot, const domain::PiecewiseTrajectory& traj, int samples) {
   DVec best = DVec::Zero(6);
   auto account = [&](double t) {
@@ -61,8 +86,8 @@ DVec sampledMax(const model::RobotModel& robot, const domain::PiecewiseTrajector
   return best;
 }
 
-void scenario(const char* name, const model::RobotModel& robot, const domain::PiecewiseTrajectory& traj,
-              const DVec& thresholds, const std::string& method, int threads, int repeats) {
+void scenario(const char* name, const model::RobotModel& robot, const domain::Domain& traj, const DVec& thresholds,
+              const std::string& method, int threads, int repeats) {
   verify::VerifierOptions o;
   o.thresholds = thresholds;
   o.method = method;
@@ -103,6 +128,18 @@ int main(int argc, char** argv) {
     for (const std::string& method : {std::string("second_order"), std::string("mean_value")}) {
       for (int threads : {1, 2}) scenario(name, robot, *t, max * 1.05, method, threads, repeats);
     }
+  }
+  // The slerp trajectory with its waypoints given in a tilted frame (translated, roll -0.05, pitch 0.1, yaw 0.3): the
+  // same base-frame trajectory (slerp and linear positions do not depend on the frame), through
+  // domain::TransformedDomain, at the same thresholds.
+  const domain::RigidTransform tilted =
+      domain::RigidTransform::fromTranslationRpy(Eigen::Vector3d(0.02, -0.01, 0.1), -0.05, 0.1, 0.3);
+  const domain::TransformedDomain framed(std::make_unique<domain::WaypointTrajectory>(
+                                             inFrame(w, tilted), domain::WaypointTrajectory::Interpolation::Slerp),
+                                         tilted);
+  const DVec max = sampledMax(robot, slerp, 100000);
+  for (int threads : {1, 2}) {
+    scenario("100 waypoints, slerp, tilted frame", robot, framed, max * 1.05, "second_order", threads, repeats);
   }
   return 0;
 }
