@@ -13,14 +13,14 @@
 // Parameters (private):
 //   ~mode (string, "workspace" | "trajectory")    ~tolerances ([dx, dy, dz (m), drx, dry, drz (rad)]; default 1e-3 m,
 //   1e-2 rad)    ~time_budget (s, 10)    ~timeout (s, 60: for the node to appear and answer)
+//   ~frame_id (string, "": the robot's base frame): the frame of the workspace or of the waypoints (any tf2 frame)
 //   workspace mode:
 //     ~use_action (bool, true)    ~action (string, /pkm_accuracy/verify_workspace)    ~service (/verify_workspace)
-//     ~frame_id (string, "": the robot's base frame)
 //     ~box_min, ~box_max ([x, y, z], m; default a 2 cm box around [0, 0, 0.475])
 //     ~angle_min, ~angle_max ([roll, pitch, yaw], rad; default +-0.01)
 //   trajectory mode:
 //     ~trajectory_service (string, /verify_trajectory)
-//     ~waypoints (flat list, 7 numbers per waypoint: t (s), x, y, z (m, base frame), roll, pitch, yaw (rad),
+//     ~waypoints (flat list, 7 numbers per waypoint: t (s), x, y, z (m, ~frame_id), roll, pitch, yaw (rad),
 //       R = Rz(yaw) Ry(pitch) Rx(roll); default 3 waypoints over 3 s inside a 2 cm box around [0, 0, 0.475])
 //     ~interpolation (string, "slerp" | "linear_rpy"; default slerp)
 //   ~exit_when_done (bool, true): exit after the decision (status 0: executed, 1: not executed, 2: no answer or an
@@ -145,6 +145,7 @@ void fillTrajectory(ros::NodeHandle& pnh, VerifyTrajectory::Request& r) {
   for (std::size_t k = 0; k < 6; ++k) r.thresholds[k] = tolerances[k];
   r.mode = VerifyTrajectory::Request::MODE_VERIFY;
   r.time_budget = pnh.param("time_budget", 10.0);
+  r.frame_id = pnh.param<std::string>("frame_id", "");
 }
 
 Verdict askForTrajectory(ros::NodeHandle& pnh, const ros::WallTime& deadline) {

@@ -1,6 +1,6 @@
 // rostest (planner.test): the example planner client executes its motion only when the node proves it SAFE. Reads
-// the latched ~decision of the four planner_client_example instances of the .test file (workspace mode through the
-// action and the service, trajectory mode through /verify_trajectory).
+// the latched ~decision of the six planner_client_example instances of the .test file (workspace mode through the
+// action and the service, trajectory mode through /verify_trajectory, also in a tf2 frame and in an unknown one).
 #include <mutex>
 #include <string>
 
@@ -46,6 +46,15 @@ TEST(PlannerClientExample, TrajectoryModeDoesNotExecuteOnUnsafeAndSaysWhen) {
   const std::string d = decisionOf("/planner_trajectory_unsafe/decision", 40.0);
   EXPECT_EQ(d.find("not executing: UNSAFE, the "), 0u) << d;
   EXPECT_NE(d.find("tolerance is exceeded at t="), std::string::npos) << d;
+}
+
+TEST(PlannerClientExample, TrajectoryModeInAFrameExecutesOnSafe) {
+  EXPECT_EQ(decisionOf("/planner_trajectory_in_frame/decision", 40.0), "executing");
+}
+
+TEST(PlannerClientExample, TrajectoryModeInAnUnknownFrameDoesNotExecute) {
+  const std::string d = decisionOf("/planner_trajectory_unknown_frame/decision", 40.0);
+  EXPECT_EQ(d.find("not executing: the check failed: frame_id: no transform from frame \"nowhere\""), 0u) << d;
 }
 
 }  // namespace
