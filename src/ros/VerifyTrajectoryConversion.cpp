@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -72,13 +73,6 @@ bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, s
   return true;
 }
 
-/// Horner's scheme in double (reports only).
-double evaluate(const std::vector<double>& c, double tau) {
-  double v = 0.0;
-  for (std::size_t j = c.size(); j-- > 0;) v = v * tau + c[j];
-  return v;
-}
-
 bool readPolynomialSegments(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& error) {
   const std::vector<double>* waypointArrays[7] = {&req.times, &req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
   const char* const waypointNames[7] = {"times", "x", "y", "z", "roll", "pitch", "yaw"};
@@ -105,23 +99,22 @@ bool readPolynomialSegments(const VerifyTrajectory::Request& req, TrajectorySpec
     spec.segments.push_back(std::move(seg));
   }
   // The core's own checks (tiling, finite values, degrees), whose messages name polynomial_segments[k].t / .x[j] ...
+  std::unique_ptr<domain::PolynomialTrajectory> trajectory;
   try {
-    const domain::PolynomialTrajectory check(spec.segments);
+    trajectory = std::make_unique<domain::PolynomialTrajectory>(spec.segments);
   } catch (const InvalidArgument& e) {
     error = e.what();
     return false;
   }
-  spec.times.clear();
+  // The segment boundaries, and the poses at both ends of every segment (its own side of a boundary; reports only).
+  spec.times = trajectory->times();
   spec.poses.clear();
-  for (const auto& seg : spec.segments) {
-    spec.times.push_back(seg.start);
-    for (double tau : {0.0, seg.end - seg.start}) {
-      std::array<double, 6> p{};
-      for (std::size_t i = 0; i < 6; ++i) p[i] = evaluate(seg.coefficients[i], tau);
-      spec.poses.push_back(p);
+  for (std::size_t k = 0; k + 1 < spec.times.size(); ++k) {
+    for (double t : {spec.times[k], std::nextafter(spec.times[k + 1], spec.times[k])}) {
+      const DVec p = trajectory->pointAtTime(t).pose;
+      spec.poses.push_back({p[0], p[1], p[2], p[3], p[4], p[5]});
     }
   }
-  spec.times.push_back(spec.segments.back().end);
   return true;
 }
 
