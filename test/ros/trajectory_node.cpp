@@ -387,6 +387,25 @@ TEST(VerifyTrajectory, QuinticSegmentsMaxErrorContainsTheSampledMaxima) {
   }
 }
 
+TEST(VerifyTrajectory, PolynomialSegmentsAreReadWithTheirBoundaryTimesAndPoses) {
+  // (The poses at both ends of every segment give ~verdict's workspace_min / max.)
+  const auto w = shortTrajectory(kGenerous, "linear_rpy");
+  pkm_accuracy::ros_layer::WorkspaceQuery q;
+  std::string error;
+  ASSERT_TRUE(pkm_accuracy::ros_layer::fromRequest(asSegments(w), "base_link", pkm_accuracy::ros_layer::QueryDefaults(),
+                                                   q, error))
+      << error;
+  EXPECT_EQ(q.trajectory.times, w.times);
+  ASSERT_EQ(q.trajectory.segments.size(), 2u);
+  ASSERT_EQ(q.trajectory.poses.size(), 4u);  // segment 0: waypoints 0 and 1, segment 1: waypoints 1 and 2
+  const std::size_t waypoint[4] = {0, 1, 1, 2};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const std::size_t j = waypoint[i];
+    const double expected[6] = {w.x[j], w.y[j], w.z[j], w.roll[j], w.pitch[j], w.yaw[j]};
+    for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(q.trajectory.poses[i][k], expected[k], 1e-12) << i << " " << k;
+  }
+}
+
 TEST(VerifyTrajectory, MalformedPolynomialSegmentsAreRefusedByName) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const auto good = asSegments(shortTrajectory(kGenerous, "linear_rpy"));
