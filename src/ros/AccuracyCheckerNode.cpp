@@ -171,6 +171,12 @@ void AccuracyCheckerNode::readDefaults() {
              max_box_markers_);
     max_box_markers_ = 500;
   }
+  max_safe_box_markers_ = pnh_.param("max_safe_box_markers", 2000);
+  if (max_safe_box_markers_ < 0) {
+    ROS_WARN("%s: expected an integer >= 0, got %d; using 2000", pnh_.resolveName("max_safe_box_markers").c_str(),
+             max_safe_box_markers_);
+    max_safe_box_markers_ = 2000;
+  }
 
   max_parallel_jobs_ = pnh_.param("max_parallel_jobs", 1);
   if (max_parallel_jobs_ < 1 || max_parallel_jobs_ > 64) {
@@ -356,6 +362,7 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
     }
 
     std::string error;
+    query.record_safe_boxes = static_cast<std::size_t>(max_safe_box_markers_);  // (for ~boxes)
     if (!resolveFrame(query, error)) {
       outcome.message = error;
     } else {

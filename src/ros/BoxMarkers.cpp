@@ -212,6 +212,20 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
     array.markers.push_back(m);
   }
 
+  // Boxes proven safe (as recorded): one translucent green cube per distinct position projection.
+  {
+    std::set<std::array<double, 6>> seen;
+    int id = 0;
+    for (const Box6& b : o.safe_recorded) {
+      const std::array<double, 6> key = {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
+      if (!seen.insert(key).second) continue;
+      visualization_msgs::Marker m = marker(kMarkerNsSafe, id++, visualization_msgs::Marker::CUBE);
+      placement.placeBox(m, b, thin);
+      m.color = color(0.1f, 0.8f, 0.2f, 0.12f);
+      array.markers.push_back(m);
+    }
+  }
+
   // Undecided boxes: one cube per distinct position projection.
   {
     std::set<std::array<double, 6>> seen;

@@ -32,6 +32,15 @@ domain::PositionRegion toRegion(const PositionRegion& r) {
   return domain::PositionRegion::box(r.box_min, r.box_max);
 }
 
+Box6 toBox6(const IVec& b) {
+  Box6 box;
+  for (int i = 0; i < 6 && i < b.size(); ++i) {
+    box.lo[static_cast<std::size_t>(i)] = b[i].lower();
+    box.hi[static_cast<std::size_t>(i)] = b[i].upper();
+  }
+  return box;
+}
+
 void copy6(const DVec& v, std::array<double, 6>& out) {
   for (int k = 0; k < 6 && k < v.size(); ++k) out[static_cast<std::size_t>(k)] = v[k];
 }
@@ -106,6 +115,7 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
     o.geometry_splitting = verify::GeometrySplitting::Auto;
   }
   o.stall_levels = q.stall_levels;
+  if (!q.is_trajectory) o.max_recorded_safe_boxes = q.record_safe_boxes;
   o.decompose_geometry = q.geometry_form == "decomposed";
   o.cancel = hooks.cancel;
   o.progress = hooks.progress;
@@ -289,13 +299,9 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     out.undecided_times = std::move(merged);
     return out;
   }
+  for (const verify::BoxRecord& b : r.safe_boxes) out.safe_recorded.push_back(toBox6(b.box));
   for (const verify::BoxRecord& b : r.undecided_boxes) {
-    Box6 box;
-    for (int i = 0; i < 6 && i < b.box.size(); ++i) {
-      box.lo[static_cast<std::size_t>(i)] = b.box[i].lower();
-      box.hi[static_cast<std::size_t>(i)] = b.box[i].upper();
-    }
-    out.undecided_recorded.push_back(box);
+    out.undecided_recorded.push_back(toBox6(b.box));
     for (int i = 0; i < 6 && i < b.box.size(); ++i) {
       const auto k = static_cast<std::size_t>(i);
       out.undecided_min[k] = first ? b.box[i].lower() : std::min(out.undecided_min[k], b.box[i].lower());

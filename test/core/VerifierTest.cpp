@@ -93,6 +93,56 @@ TEST(Verifier, SafeTenPercentAboveSampledMaximaUnsafeFivePercentBelow) {
   EXPECT_LE(unsafe.witness_lower_bound, s.robot.worstErrorAt(unsafe.witness)[k] * (1 + 1e-9));
 }
 
+TEST(Verifier, RecordedSafeBoxesTileTheWorkspaceAndHoldTheirBounds) {
+  SubWorkspace s(1.0 / 4.0);
+  const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 20000, 1);
+  verify::VerifierOptions o;
+  o.thresholds = maxima * 1.10;
+  o.threads = 2;
+  const auto none = verify::Verifier::run(s.robot, s.ws, o);  // the default records none
+  EXPECT_TRUE(none.safe_boxes.empty());
+  EXPECT_EQ(none.safe_box_count, 0u);
+  o.max_recorded_safe_boxes = 100000;
+  const auto all = verify::Verifier::run(s.robot, s.ws, o);
+  ASSERT_EQ(all.verdict, Verdict::Safe) << all.message;
+  ASSERT_GT(all.safe_boxes.size(), 1u);
+  EXPECT_EQ(all.safe_boxes.size(), all.safe_box_count);
+  EXPECT_EQ(all.stats.boxes, none.stats.boxes);  // recording changes nothing else
+  // Together they are the workspace (relative volumes add up to 1; the boxes of a bisection do not overlap), each
+  // inside it, each bound within the thresholds and above the errors sampled in it (independent double evaluation).
+  const IVec& w = s.ws.initialBox();
+  double volume = 0.0;
+  std::mt19937_64 rng(7);
+  for (const verify::BoxRecord& b : all.safe_boxes) {
+    double v = 1.0;
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_TRUE(w[i].contains(b.box[i].lower()) && w[i].contains(b.box[i].upper())) << i;
+      v *= (b.box[i].upper() - b.box[i].lower()) / (w[i].upper() - w[i].lower());
+    }
+    volume += v;
+    EXPECT_TRUE(b.geometry.empty());
+    int computed = 0;  // (a component settled on a containing box has no bound of its own here: +inf)
+    for (int k = 0; k < 6; ++k) {
+      if (b.upper[k] < std::numeric_limits<double>::infinity()) ++computed;
+      EXPECT_TRUE(b.upper[k] <= o.thresholds[k] || b.upper[k] == std::numeric_limits<double>::infinity()) << k;
+    }
+    EXPECT_GT(computed, 0);
+    for (int n = 0; n < 3; ++n) {
+      const DVec f = s.robot.worstErrorAt(test::randomPoint(b.box, rng));
+      for (int k = 0; k < 6; ++k) {
+        EXPECT_LE(f[k], b.upper[k]) << k;
+        EXPECT_LE(f[k], o.thresholds[k]) << k;
+      }
+    }
+  }
+  EXPECT_NEAR(volume, 1.0, 1e-9);
+  // A cap keeps that many and counts the rest.
+  o.max_recorded_safe_boxes = 3;
+  const auto capped = verify::Verifier::run(s.robot, s.ws, o);
+  EXPECT_EQ(capped.safe_boxes.size(), 3u);
+  EXPECT_EQ(capped.safe_box_count, all.safe_box_count);
+}
+
 TEST(Verifier, MaxErrorBracketsSampledMaxima) {
   SubWorkspace s(1.0 / 32.0);
   const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 20000, 2);

@@ -321,6 +321,39 @@ TEST(Action, BoxesShowTheWorkspaceAndTheWitness) {
   EXPECT_EQ(witness[0].pose.position.z, r->witness_pose[2]);
 }
 
+TEST(Action, BoxesShowTheBoxesProvenSafe) {
+  // The paper workspace at the demo's thresholds: SAFE after a few hundred boxes, every one of them drawn (position
+  // projections, ~max_safe_box_markers = 2000 by default).
+  ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
+  Boxes boxes;
+  const auto req = boxRequest(0.15, 0.45, 0.5, k15deg, {3e-4, 3e-4, 2e-4, 1e-3, 1e-3, 3e-3}, "verify");
+  ASSERT_EQ(client().sendGoalAndWait(goalOf(req), ros::Duration(30.0)), State::SUCCEEDED);
+  const auto r = client().getResult();
+  ASSERT_EQ(r->verdict, "SAFE") << r->message;
+  ASSERT_GT(r->boxes, 10u);
+  const auto a = boxes.forJob(r->job_id);
+  ASSERT_TRUE(a) << "no ~boxes for job " << r->job_id;
+  const auto safe = inNs(*a, "safe");
+  ASSERT_GT(safe.size(), 1u);
+  EXPECT_LT(safe.size(), r->boxes);  // leaves only, one per distinct position projection
+  double volume = 0.0;
+  for (const auto& m : safe) {
+    EXPECT_EQ(m.type, visualization_msgs::Marker::CUBE);
+    EXPECT_GT(m.color.g, m.color.r);
+    EXPECT_LT(m.color.a, 0.5f);
+    // Inside the workspace's position box.
+    EXPECT_GE(m.pose.position.x - 0.5 * m.scale.x, -0.15 - 1e-12);
+    EXPECT_LE(m.pose.position.x + 0.5 * m.scale.x, 0.15 + 1e-12);
+    EXPECT_GE(m.pose.position.z - 0.5 * m.scale.z, 0.45 - 1e-12);
+    EXPECT_LE(m.pose.position.z + 0.5 * m.scale.z, 0.5 + 1e-12);
+    volume += m.scale.x * m.scale.y * m.scale.z;
+  }
+  // The safe leaves tile the 6-D workspace, so their position projections cover its position box.
+  EXPECT_GE(volume, 0.3 * 0.3 * 0.05 * (1 - 1e-9));
+  EXPECT_TRUE(inNs(*a, "undecided").empty());
+  EXPECT_TRUE(inNs(*a, "witness").empty());
+}
+
 TEST(Action, BoxesShowTheSingularSegment) {
   // paper_40deg contains singular poses: with thresholds no pose can be certified above, UNSAFE through the singular
   // segment, drawn in namespace "singular" between the positions of singular_poses.

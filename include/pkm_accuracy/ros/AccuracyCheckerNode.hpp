@@ -138,10 +138,11 @@ class AccuracyCheckerNode {
   UrdfAnchorNames names_;  ///< frames (base_link = base frame, platform_link = platform frame) and anchor names
   std::string source_;     ///< "yaml" | "urdf"
   QueryDefaults defaults_;
-  int max_parallel_jobs_ = 1;       ///< ~max_parallel_jobs (service and action jobs together)
-  double progress_period_s_ = 0.5;  ///< 1 / ~progress_rate; 0 = no ~progress
-  double tf_timeout_s_ = 1.0;       ///< ~tf_timeout
-  int max_box_markers_ = 500;       ///< ~max_box_markers
+  int max_parallel_jobs_ = 1;        ///< ~max_parallel_jobs (service and action jobs together)
+  double progress_period_s_ = 0.5;   ///< 1 / ~progress_rate; 0 = no ~progress
+  double tf_timeout_s_ = 1.0;        ///< ~tf_timeout
+  int max_box_markers_ = 500;        ///< ~max_box_markers
+  int max_safe_box_markers_ = 2000;  ///< ~max_safe_box_markers
 
   ros::ServiceServer describe_srv_;
   ros::ServiceServer cancel_srv_;

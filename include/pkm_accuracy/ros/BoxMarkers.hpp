@@ -1,8 +1,9 @@
 // ~boxes: a finished job drawn for RViz (visualization_msgs/MarkerArray, in the robot's base frame): the workspace
 // (its region as a translucent shape and its bounding box as a wireframe), the recorded undecided boxes (position
 // projection, orange cubes), the witness of an UNSAFE verdict (red sphere), the first uncertainty-sensitive pose and
-// its region (yellow sphere and translucent cube) and a text label with the verdict. Only
-// what the verifier reports is drawn: it records undecided boxes and the witness, not the boxes it proved safe.
+// its region (yellow sphere and translucent cube), the boxes proven safe that the node asked the verifier to record
+// (translucent green cubes, position projections; WorkspaceQuery::record_safe_boxes) and a text label with the
+// verdict. Only what the verifier reports is drawn.
 // A trajectory job is drawn as its path (the positions of the platform frame's origin, sampled in time) coloured by
 // what the verifier reports about each stretch, with the same witness, singular, sensitive and label markers.
 #pragma once
@@ -22,7 +23,9 @@ namespace ros_layer {
 constexpr const char* kMarkerNsWorkspace = "workspace";      ///< id 0: the region (CUBE, SPHERE or CYLINDER)
 constexpr const char* kMarkerNsBounds = "workspace_bounds";  ///< id 0: LINE_LIST, the region's bounding box
 constexpr const char* kMarkerNsUndecided = "undecided";      ///< ids 0..n-1: CUBE per distinct position projection
-constexpr const char* kMarkerNsWitness = "witness";          ///< id 0: SPHERE at the witness position (UNSAFE)
+/// Verify mode: ids 0..n-1: CUBE per distinct position projection of the recorded boxes proven safe (green).
+constexpr const char* kMarkerNsSafe = "safe";
+constexpr const char* kMarkerNsWitness = "witness";  ///< id 0: SPHERE at the witness position (UNSAFE)
 /// Anchor uncertainty, reason uncertainty_sensitive: id 0: SPHERE at the first uncertainty-sensitive pose's position,
 /// id 1: CUBE, the position projection of the search box it was found in.
 constexpr const char* kMarkerNsSensitive = "sensitive";

@@ -84,6 +84,8 @@ struct WorkspaceQuery {
   /// base_from_frame, the pose of frame_id in the base frame: p_base = translation + rotation p_frame.
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  /// Workspaces in mode verify: keep up to this many boxes proven safe (set by the node for ~boxes; 0: none).
+  std::size_t record_safe_boxes = 0;
 };
 
 /// A box of the search (x, y, z in m; roll, pitch, yaw in rad; in the query's frame).
@@ -141,6 +143,7 @@ struct WorkspaceOutcome {
   std::array<double, 6> undecided_min{};  ///< hull of the recorded undecided boxes
   std::array<double, 6> undecided_max{};
   std::vector<Box6> undecided_recorded;  ///< the recorded undecided boxes themselves (for ~boxes; not in the srv)
+  std::vector<Box6> safe_recorded;  ///< boxes proven safe (query.record_safe_boxes of them; for ~boxes; not in the srv)
   /// trajectory: the recorded undecided boxes as time intervals (s), sorted, merged where they touch or overlap
   std::vector<std::pair<double, double>> undecided_times;
   // Geometric uncertainty.

@@ -195,6 +195,7 @@ class Run {
       }
       if (allSafe) {
         safeVol_.add(vol);
+        if (options_.max_recorded_safe_boxes > 0 && !track.geometry) recordSafe(box, bounds.upper);
         return;
       }
       // (Every pose of the box exceeds for every geometry: only when the box covers every admissible geometry.)
@@ -983,6 +984,12 @@ class Run {
       result_.undecided_boxes.push_back(
           {box, upper, track.geometry ? track.geometry->ranges : std::vector<Interval>()});
     }
+  }
+
+  void recordSafe(const IVec& box, const DVec& upper) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++result_.safe_box_count;
+    if (result_.safe_boxes.size() < options_.max_recorded_safe_boxes) result_.safe_boxes.push_back({box, upper, {}});
   }
 
   bool stopRequested() {

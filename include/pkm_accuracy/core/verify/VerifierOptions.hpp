@@ -63,6 +63,10 @@ struct VerifierOptions {
   bool stop_at_first_witness = true;
   /// At most this many undecided boxes are kept in the result (the rest are counted).
   std::size_t max_recorded_boxes = 1000;
+  /// In Verify mode, at most this many of the boxes proven within every threshold for every admissible geometry are
+  /// kept in the result (VerifierResult::safe_boxes, in the order they were settled; the rest are counted), e.g. to
+  /// draw the proof. 0 (the default): none.
+  std::size_t max_recorded_safe_boxes = 0;
   /// Points per variable of the initial sampling grid (witness search / first lower bounds); 0 disables it.
   int presample_points = 3;
   /// Derivatives of the error functions (seed paper section 4.2, monotonicity, plus the mean-value form of f_k):

@@ -126,6 +126,11 @@ struct VerifierResult {
 
   std::vector<BoxRecord> undecided_boxes;  ///< at most options.max_recorded_boxes
   std::size_t undecided_box_count = 0;     ///< all of them
+  /// Verify mode: boxes proven within every threshold for every admissible geometry (their `geometry` empty), at
+  /// most options.max_recorded_safe_boxes, and how many there were (counted only when some are recorded). `upper`
+  /// holds the bounds computed on the box itself: +inf for a component already proven on a box containing it.
+  std::vector<BoxRecord> safe_boxes;
+  std::size_t safe_box_count = 0;
   Statistics stats;
 };
 
