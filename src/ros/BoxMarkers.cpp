@@ -212,34 +212,23 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
     array.markers.push_back(m);
   }
 
-  // Boxes proven safe (as recorded): one translucent green cube per distinct position projection.
-  {
+  // Recorded boxes as cubes, one per distinct position projection, at most `max` of them: the boxes proven safe
+  // (translucent green) and the undecided ones (orange).
+  auto addCubes = [&](const std::vector<Box6>& boxes, const char* ns, const std_msgs::ColorRGBA& c, std::size_t max) {
     std::set<std::array<double, 6>> seen;
     int id = 0;
-    for (const Box6& b : o.safe_recorded) {
+    for (const Box6& b : boxes) {
+      if (static_cast<std::size_t>(id) >= max) break;
       const std::array<double, 6> key = {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
       if (!seen.insert(key).second) continue;
-      visualization_msgs::Marker m = marker(kMarkerNsSafe, id++, visualization_msgs::Marker::CUBE);
+      visualization_msgs::Marker m = marker(ns, id++, visualization_msgs::Marker::CUBE);
       placement.placeBox(m, b, thin);
-      m.color = color(0.1f, 0.8f, 0.2f, 0.12f);
+      m.color = c;
       array.markers.push_back(m);
     }
-  }
-
-  // Undecided boxes: one cube per distinct position projection.
-  {
-    std::set<std::array<double, 6>> seen;
-    int id = 0;
-    for (const Box6& b : o.undecided_recorded) {
-      if (static_cast<std::size_t>(id) >= max_boxes) break;
-      const std::array<double, 6> key = {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
-      if (!seen.insert(key).second) continue;
-      visualization_msgs::Marker m = marker(kMarkerNsUndecided, id++, visualization_msgs::Marker::CUBE);
-      placement.placeBox(m, b, thin);
-      m.color = color(1.0f, 0.55f, 0.0f, 0.5f);
-      array.markers.push_back(m);
-    }
-  }
+  };
+  addCubes(o.safe_recorded, kMarkerNsSafe, color(0.1f, 0.8f, 0.2f, 0.12f), o.safe_recorded.size());
+  addCubes(o.undecided_recorded, kMarkerNsUndecided, color(1.0f, 0.55f, 0.0f, 0.5f), max_boxes);
 
   addPoseMarkers(o, placement, base_frame, stamp, unit, /*sensitiveRegion=*/true, array);
   addLabel(o, placement, base_frame, stamp, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit), unit,
