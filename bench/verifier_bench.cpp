@@ -1,13 +1,15 @@
 // Verifier scenarios on the reference robots; prints one table row per scenario with boxes, seconds, verdict and
 // peak memory. Usage: verifier_bench [time_limit_s] [all|nominal|uncertainty] [rounds]
-// [default|combined|decomposed|both]
+// [default|combined|decomposed|both] [h_mm,h_mm,...]
 //   time_limit_s: per scenario (default 120: the long scenarios stop there, UNDECIDED);
 //   the second argument selects the scenarios: all (default), nominal (no anchor uncertainty), or uncertainty (the
 //   anchor-uncertainty rows of issue #5 only);
 //   rounds: how many times the anchor-uncertainty cases run, in turn (h = 0, 0.5, 1 mm, h = 0, ...; default 3), so
 //   that the ratios are taken from each case's fastest run (this shared VM's wall times swing 2x with other load);
 //   the last argument: the geometry form of the uncertain cases (VerifierOptions::decompose_geometry; default: the
-//   library's default; both: each uncertain case with each form, in turn, in every round).
+//   library's default; both: each uncertain case with each form, in turn, in every round);
+//   the half-widths of the uncertain cases in mm, comma-separated (default: ref6.yaml's anchor_uncertainty_cases,
+//   0.5 and 1 mm), e.g. 0.25,0.5,0.75,1 for the ratio as a function of h.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -73,8 +75,17 @@ void printVec(const char* label, const DVec& v) {
 /// Thresholds 5% above each case's own maxima over poses and geometries (sampled, bench::sampledMaximaOverGeometry),
 /// 2 threads; time ratio of each uncertain case to h = 0 in the same run, `rounds` times in turn, then the ratios of
 /// the fastest runs (wall and CPU time). Then max-error at h = 0.5 mm, alpha 2%.
+/// A half-width h (m) in mm with one decimal, or two where the second is not 0 (0.5 -> "0.5", 0.25 -> "0.25").
+std::string mm(double h) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", h * 1e3);
+  std::string s = text;
+  if (s.size() > 1 && s.back() == '0') s.pop_back();
+  return s;
+}
+
 void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& paper, double limit, int rounds,
-                          const std::vector<int>& forms) {
+                          const std::vector<int>& forms, std::vector<double> cases) {
   constexpr int kRandomPoses = 10000;
   std::printf(
       "\n-- anchor uncertainty (issue #5): paper workspace, thresholds = 1.05 x that case's maxima over poses\n"
@@ -83,7 +94,7 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
       "   anchor coordinates + 8 random vertices; the best 8 per component refined by single-coordinate flips\n",
       kRandomPoses);
   std::printf("   load average before: %s (2 cores)\n", bench::loadAverage().c_str());
-  std::vector<double> cases = ref.anchor_uncertainty_cases;
+  if (cases.empty()) cases = ref.anchor_uncertainty_cases;
   if (cases.empty() || cases.front() != 0.0) cases.insert(cases.begin(), 0.0);
   std::vector<DVec> maxima;
   DVec nominalMax;
@@ -93,7 +104,8 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (h == 0.0) nominalMax = m.hi;
     char label[96];
-    std::snprintf(label, sizeof label, "   maxima h=%.1f mm (%ld evaluations, %.1f s): ", h * 1e3, m.evaluations, s);
+    std::snprintf(label, sizeof label, "   maxima h=%s mm (%ld evaluations, %.1f s): ", mm(h).c_str(), m.evaluations,
+                  s);
     printVec(label, m.hi);
     if (h > 0.0 && nominalMax.size() == 6) {
       std::printf("     ratio to h=0: ");
@@ -126,7 +138,7 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
   const auto runName = [&](const Run& run) {
     char name[80];
     const char* form = run.form < 0 || cases[run.c] == 0.0 ? "" : (run.form == 0 ? ", comb." : ", decomp.");
-    std::snprintf(name, sizeof name, "paper +5%%, anchors +-%.1f mm%s", cases[run.c] * 1e3, form);
+    std::snprintf(name, sizeof name, "paper +5%%, anchors +-%s mm%s", mm(cases[run.c]).c_str(), form);
     return std::string(name);
   };
   for (int round = 0; round < rounds; ++round) {
@@ -207,10 +219,24 @@ int main(int argc, char** argv) {
   if (form == "combined") forms = {0};
   if (form == "decomposed") forms = {1};
   if (form == "both") forms = {0, 1};
-  if ((group != "all" && group != "nominal" && group != "uncertainty") || rounds < 1 || forms.empty()) {
+  std::vector<double> cases;  // (m; empty: ref6.yaml's)
+  bool casesOk = true;
+  if (argc > 5) {
+    std::string list = argv[5];
+    for (std::size_t start = 0; start <= list.size();) {
+      const std::size_t end = std::min(list.find(',', start), list.size());
+      char* stop = nullptr;
+      const std::string item = list.substr(start, end - start);
+      const double mm = std::strtod(item.c_str(), &stop);
+      casesOk = casesOk && !item.empty() && stop == item.c_str() + item.size() && mm > 0.0 && mm < 100.0;
+      cases.push_back(mm * 1e-3);
+      start = end + 1;
+    }
+  }
+  if ((group != "all" && group != "nominal" && group != "uncertainty") || rounds < 1 || forms.empty() || !casesOk) {
     std::fprintf(stderr,
                  "usage: verifier_bench [time_limit_s] [all|nominal|uncertainty] [rounds >= 1] "
-                 "[default|combined|decomposed|both]\n");
+                 "[default|combined|decomposed|both] [h_mm,h_mm,... (each > 0)]\n");
     return 2;
   }
   const io::RobotFile ref = io::loadRobotFile(bench::sourceDir() + "/config/ref6.yaml");
@@ -221,7 +247,7 @@ int main(int argc, char** argv) {
   const domain::Workspace& fixedWs = tiny.workspaces.at("fixed_orientation");
   if (group == "uncertainty") {
     std::printf("time limit per scenario: %.0f s\n", limit);
-    uncertaintyScenarios(ref, paper, limit, rounds, forms);
+    uncertaintyScenarios(ref, paper, limit, rounds, forms, cases);
     return 0;
   }
 
@@ -282,6 +308,6 @@ int main(int argc, char** argv) {
   for (int k = 0; k < 6; ++k) std::printf("[%.6g, %.6g] ", tinyMax.max_lower[k], tinyMax.max_upper[k]);
   std::printf("\n");
 
-  if (group == "all") uncertaintyScenarios(ref, paper, limit, rounds, forms);
+  if (group == "all") uncertaintyScenarios(ref, paper, limit, rounds, forms, cases);
   return 0;
 }
