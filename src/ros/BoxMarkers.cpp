@@ -264,11 +264,10 @@ visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& q, c
   visualization_msgs::Marker path =
       newMarker(base_frame, stamp, kMarkerNsTrajectory, 0, visualization_msgs::Marker::LINE_LIST);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  std::vector<Eigen::Vector3d> points;
   for (const auto& [ta, tb] : pieces) {
     const Eigen::Vector3d a = position(ta, tb), b = position(tb, ta);
-    points.push_back(a);
-    points.push_back(b);
+    path.points.push_back(point(a));
+    path.points.push_back(point(b));
     lo = lo.cwiseMin(a).cwiseMin(b);
     hi = hi.cwiseMax(a).cwiseMax(b);
     bool undecided = false;
@@ -282,7 +281,6 @@ visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& q, c
   const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);
   const double unit = std::max(size.norm(), 1e-3);  // scale of the drawing (m)
   placement.place(path, Eigen::Vector3d::Zero());
-  for (const Eigen::Vector3d& v : points) path.points.push_back(point(v));
   path.scale.x = 4e-3 * unit;
   path.color = color(1.0f, 1.0f, 1.0f, 1.0f);  // (per-point colours above)
   array.markers.push_back(path);
