@@ -19,6 +19,7 @@
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/ros/BoxMarkers.hpp"
 #include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
+#include "pkm_accuracy/ros/VerifyVarietyConversion.hpp"
 #include "pkm_accuracy/ros/VerifyWorkspaceConversion.hpp"
 
 namespace pkm_accuracy {
@@ -100,6 +101,7 @@ AccuracyCheckerNode::~AccuracyCheckerNode() {
   trajectory_action_server_.reset();
   verify_workspace_srv_.shutdown();
   verify_trajectory_srv_.shutdown();
+  verify_variety_srv_.shutdown();
   cancel_srv_.shutdown();
   describe_srv_.shutdown();
 }
@@ -212,18 +214,19 @@ bool AccuracyCheckerNode::start(std::string& error) {
       verify_nh.advertiseService(kVerifyWorkspaceService, &AccuracyCheckerNode::onVerifyWorkspace, this);
   verify_trajectory_srv_ =
       verify_nh.advertiseService(kVerifyTrajectoryService, &AccuracyCheckerNode::onVerifyTrajectory, this);
+  verify_variety_srv_ = verify_nh.advertiseService(kVerifyVarietyService, &AccuracyCheckerNode::onVerifyVariety, this);
   workspace_action_server_ = startActionServer<VerifyWorkspaceAction>(kVerifyWorkspaceAction);
   trajectory_action_server_ = startActionServer<VerifyTrajectoryAction>(kVerifyTrajectoryAction);
   verify_spinner_.reset(new ros::AsyncSpinner(static_cast<std::uint32_t>(max_parallel_jobs_ + 1), &verify_queue_));
   verify_spinner_->start();
 
   if (pnh_.param("publish_anchor_frames", true)) publishAnchorFrames();
-  ROS_INFO("Services: %s, %s, %s, %s; actions: %s, %s; topics: %s, %s, %s (at most %d job(s) at once)",
+  ROS_INFO("Services: %s, %s, %s, %s, %s; actions: %s, %s; topics: %s, %s, %s (at most %d job(s) at once)",
            describe_srv_.getService().c_str(), cancel_srv_.getService().c_str(),
            verify_workspace_srv_.getService().c_str(), verify_trajectory_srv_.getService().c_str(),
-           pnh_.resolveName(kVerifyWorkspaceAction).c_str(), pnh_.resolveName(kVerifyTrajectoryAction).c_str(),
-           verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(),
-           max_parallel_jobs_);
+           verify_variety_srv_.getService().c_str(), pnh_.resolveName(kVerifyWorkspaceAction).c_str(),
+           pnh_.resolveName(kVerifyTrajectoryAction).c_str(), verdict_pub_.getTopic().c_str(),
+           progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(), max_parallel_jobs_);
   return true;
 }
 
@@ -349,7 +352,13 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
   try {
     const std::string mode = modeName(query.mode);
     const std::string frame = query.frame_id.empty() ? names_.base_link : query.frame_id;
-    if (query.is_trajectory) {
+    if (query.domain == QueryDomain::Variety) {
+      std::size_t terms = 0;
+      for (const auto& c : query.variety.coordinates) terms += c.size();
+      ROS_INFO("%s: job %lu started (%s, variety of %d parameter(s), %lu monomials, in frame %s)", via.c_str(),
+               static_cast<unsigned long>(id), mode.c_str(), query.variety.parameters,
+               static_cast<unsigned long>(terms), frame.c_str());
+    } else if (query.domain == QueryDomain::Trajectory) {
       const bool segments = !query.trajectory.segments.empty();
       ROS_INFO("%s: job %lu started (%s, trajectory of %lu %s over [%g, %g] s in frame %s)", via.c_str(),
                static_cast<unsigned long>(id), mode.c_str(),
@@ -425,11 +434,14 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
       progress_pub_.publish(last);
     }
     if (outcome.success) {
-      // ~boxes: a workspace's region and undecided boxes, or a trajectory's path (its boxes are time intervals).
-      boxes_pub_.publish(query.is_trajectory
-                             ? makeTrajectoryMarkers(query, outcome, names_.base_link, result.header.stamp)
-                             : makeJobMarkers(query, outcome, names_.base_link, result.header.stamp,
-                                              static_cast<std::size_t>(max_box_markers_)));
+      // ~boxes: a workspace's region and undecided boxes, a trajectory's path (its boxes are time intervals) or a
+      // variety's parameter grid (its boxes are parameter boxes).
+      const ros::Time& stamp = result.header.stamp;
+      boxes_pub_.publish(
+          query.domain == QueryDomain::Trajectory ? makeTrajectoryMarkers(query, outcome, names_.base_link, stamp)
+          : query.domain == QueryDomain::Variety
+              ? makeVarietyMarkers(query, outcome, names_.base_link, stamp)
+              : makeJobMarkers(query, outcome, names_.base_link, stamp, static_cast<std::size_t>(max_box_markers_)));
       ROS_INFO("%s: job %lu: %s%s%s in %.3f s, %lu boxes: %s", via.c_str(), static_cast<unsigned long>(id),
                outcome.verdict.c_str(), outcome.reason.empty() ? "" : " ", outcome.reason.c_str(), outcome.seconds,
                static_cast<unsigned long>(outcome.boxes), outcome.message.c_str());
@@ -451,64 +463,47 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
   return outcome;
 }
 
-bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, VerifyWorkspace::Response& res) {
+template <class Srv>
+bool AccuracyCheckerNode::onVerify(typename Srv::Request& req, typename Srv::Response& res, const char* name) {
   try {
-    res = VerifyWorkspace::Response();
+    res = typename Srv::Response();
     WorkspaceQuery query;
     std::string error;
     if (!fromRequest(req, names_.base_link, defaults_, query, error)) {
       res.message = "invalid request: " + error;
-      ROS_WARN("%s: %s", kVerifyWorkspaceService, res.message.c_str());
+      ROS_WARN("%s: %s", name, res.message.c_str());
       return true;
     }
     WorkspaceOutcome outcome;
     const std::shared_ptr<Job> job = admit(outcome);
     if (!job) {
       toResponse(outcome, res);
-      ROS_WARN("%s: %s", kVerifyWorkspaceService, res.message.c_str());
+      ROS_WARN("%s: %s", name, res.message.c_str());
       return true;
     }
-    toResponse(runJob(job, query, kVerifyWorkspaceService, nullptr), res);
+    toResponse(runJob(job, query, name, nullptr), res);
   } catch (const std::exception& e) {
-    res = VerifyWorkspace::Response();
+    res = typename Srv::Response();
     res.message = std::string("verification failed: ") + e.what();
-    ROS_ERROR("%s: %s", kVerifyWorkspaceService, res.message.c_str());
+    ROS_ERROR("%s: %s", name, res.message.c_str());
   } catch (...) {
-    res = VerifyWorkspace::Response();
+    res = typename Srv::Response();
     res.message = "verification failed: unknown exception";
-    ROS_ERROR("%s: %s", kVerifyWorkspaceService, res.message.c_str());
+    ROS_ERROR("%s: %s", name, res.message.c_str());
   }
   return true;  // the answer is in success/message; never make the client see a transport error
 }
 
+bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, VerifyWorkspace::Response& res) {
+  return onVerify<VerifyWorkspace>(req, res, kVerifyWorkspaceService);
+}
+
 bool AccuracyCheckerNode::onVerifyTrajectory(VerifyTrajectory::Request& req, VerifyTrajectory::Response& res) {
-  try {
-    res = VerifyTrajectory::Response();
-    WorkspaceQuery query;
-    std::string error;
-    if (!fromRequest(req, names_.base_link, defaults_, query, error)) {
-      res.message = "invalid request: " + error;
-      ROS_WARN("%s: %s", kVerifyTrajectoryService, res.message.c_str());
-      return true;
-    }
-    WorkspaceOutcome outcome;
-    const std::shared_ptr<Job> job = admit(outcome);
-    if (!job) {
-      toResponse(outcome, res);
-      ROS_WARN("%s: %s", kVerifyTrajectoryService, res.message.c_str());
-      return true;
-    }
-    toResponse(runJob(job, query, kVerifyTrajectoryService, nullptr), res);
-  } catch (const std::exception& e) {
-    res = VerifyTrajectory::Response();
-    res.message = std::string("verification failed: ") + e.what();
-    ROS_ERROR("%s: %s", kVerifyTrajectoryService, res.message.c_str());
-  } catch (...) {
-    res = VerifyTrajectory::Response();
-    res.message = "verification failed: unknown exception";
-    ROS_ERROR("%s: %s", kVerifyTrajectoryService, res.message.c_str());
-  }
-  return true;  // the answer is in success/message
+  return onVerify<VerifyTrajectory>(req, res, kVerifyTrajectoryService);
+}
+
+bool AccuracyCheckerNode::onVerifyVariety(VerifyVariety::Request& req, VerifyVariety::Response& res) {
+  return onVerify<VerifyVariety>(req, res, kVerifyVarietyService);
 }
 
 bool AccuracyCheckerNode::onCancel(Cancel::Request& req, Cancel::Response& res) {

@@ -291,5 +291,83 @@ visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& q, c
   return array;
 }
 
+visualization_msgs::MarkerArray makeVarietyMarkers(const WorkspaceQuery& q, const WorkspaceOutcome& o,
+                                                   const std::string& base_frame, const ros::Time& stamp) {
+  visualization_msgs::MarkerArray array;
+  const Placement placement(q);
+  array.markers.push_back(deleteAll(base_frame, stamp));
+
+  // The grid: for each parameter i, the lines along it with every other parameter at one of `values` grid values,
+  // each line in `pieces` pieces (parameter space).
+  const std::unique_ptr<domain::ParametricVariety> variety = toVariety(q.variety);
+  const int m = q.variety.parameters;
+  int values = 2;
+  while (m > 1 && m * std::pow(values + 1, m - 1) <= kVarietyGridLines && values < kVarietyGridValues) ++values;
+  const int pieces = m == 1 ? kTrajectoryPieces : kVarietyLinePieces;
+  int others = 1;
+  for (int i = 1; i < m; ++i) others *= values;
+  const auto m6 = static_cast<std::size_t>(m);
+  const std::size_t undecided = o.undecided_parameters_lower.size() / m6;
+  const bool proven = q.mode == QueryMode::Verify && o.success && !o.has_witness && o.verdict != "UNSAFE" &&
+                      o.undecided_boxes_recorded == o.undecided_boxes;
+  visualization_msgs::Marker grid =
+      newMarker(base_frame, stamp, kMarkerNsVariety, 0, visualization_msgs::Marker::LINE_LIST);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  DVec t(m), pose;
+  DMat jac;
+  auto position = [&](const DVec& at) {
+    variety->pointAt(at, pose, jac);
+    return Eigen::Vector3d(pose[0], pose[1], pose[2]);
+  };
+  for (int i = 0; i < m; ++i) {
+    for (int line = 0; line < others; ++line) {
+      // The other parameters' grid values, from the digits of `line` in base `values`.
+      for (int v = 0, rest = line; v < m; ++v) {
+        if (v == i) continue;
+        t[v] = static_cast<double>(rest % values) / (values - 1);
+        rest /= values;
+      }
+      for (int k = 0; k < pieces; ++k) {
+        const double a = static_cast<double>(k) / pieces, b = static_cast<double>(k + 1) / pieces;
+        t[i] = a;
+        const Eigen::Vector3d pa = position(t);
+        t[i] = b;
+        const Eigen::Vector3d pb = position(t);
+        grid.points.push_back(point(pa));
+        grid.points.push_back(point(pb));
+        lo = lo.cwiseMin(pa).cwiseMin(pb);
+        hi = hi.cwiseMax(pa).cwiseMax(pb);
+        // Does the piece (parameter i in [a, b], the others at t) meet a recorded undecided box?
+        bool meets = false;
+        for (std::size_t j = 0; j < undecided && !meets; ++j) {
+          bool inside = true;
+          for (std::size_t v = 0; v < m6 && inside; ++v) {
+            const double l = o.undecided_parameters_lower[j * m6 + v], u = o.undecided_parameters_upper[j * m6 + v];
+            inside = static_cast<int>(v) == i ? (l <= b && a <= u)
+                                              : (l <= t[static_cast<int>(v)] && t[static_cast<int>(v)] <= u);
+          }
+          meets = inside;
+        }
+        const std_msgs::ColorRGBA c = meets    ? color(1.0f, 0.55f, 0.0f, 1.0f)
+                                      : proven ? color(0.1f, 0.8f, 0.2f, 1.0f)
+                                               : color(0.2f, 0.6f, 1.0f, 1.0f);
+        grid.colors.push_back(c);
+        grid.colors.push_back(c);
+      }
+    }
+  }
+  const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);
+  const double unit = std::max(size.norm(), 1e-3);  // scale of the drawing (m)
+  placement.place(grid, Eigen::Vector3d::Zero());
+  grid.scale.x = 2e-3 * unit;
+  grid.color = color(1.0f, 1.0f, 1.0f, 1.0f);  // (per-point colours above)
+  array.markers.push_back(grid);
+
+  addPoseMarkers(o, placement, base_frame, stamp, unit, /*sensitiveRegion=*/false, array);
+  addLabel(o, placement, base_frame, stamp, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit), unit,
+           "parameter box(es)", array);
+  return array;
+}
+
 }  // namespace ros_layer
 }  // namespace pkm_accuracy

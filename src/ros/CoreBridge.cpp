@@ -45,6 +45,23 @@ void copy6(const DVec& v, std::array<double, 6>& out) {
   for (int k = 0; k < 6 && k < v.size(); ++k) out[static_cast<std::size_t>(k)] = v[k];
 }
 
+void append(const DVec& v, std::vector<double>& out) {
+  for (int i = 0; i < v.size(); ++i) out.push_back(v[i]);
+}
+
+/// The domain of a query in its own frame (no transform).
+std::unique_ptr<domain::Domain> inOwnFrame(const WorkspaceQuery& query) {
+  switch (query.domain) {
+    case QueryDomain::Trajectory:
+      return toTrajectory(query.trajectory);
+    case QueryDomain::Variety:
+      return toVariety(query.variety);
+    case QueryDomain::Workspace:
+      break;
+  }
+  return std::make_unique<domain::Workspace>(toWorkspace(query.workspace));
+}
+
 }  // namespace
 
 domain::Workspace toWorkspace(const WorkspaceSpec& spec) {
@@ -65,13 +82,12 @@ std::unique_ptr<domain::PiecewiseTrajectory> toTrajectory(const TrajectorySpec& 
                                        : domain::WaypointTrajectory::Interpolation::LinearRpy);
 }
 
+std::unique_ptr<domain::ParametricVariety> toVariety(const VarietySpec& spec) {
+  return std::make_unique<domain::ParametricVariety>(spec.parameters, spec.coordinates);
+}
+
 std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query) {
-  std::unique_ptr<domain::Domain> inFrame;
-  if (query.is_trajectory) {
-    inFrame = toTrajectory(query.trajectory);
-  } else {
-    inFrame = std::make_unique<domain::Workspace>(toWorkspace(query.workspace));
-  }
+  std::unique_ptr<domain::Domain> inFrame = inOwnFrame(query);
   if (!query.has_transform) return inFrame;
   domain::RigidTransform t;
   t.rotation = query.rotation;
@@ -97,10 +113,12 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
   o.alpha_relative = true;
   if (!q.method.empty()) o.method = q.method;
   if (q.min_width > 0.0) {
-    if (q.is_trajectory) {
+    if (q.domain == QueryDomain::Trajectory) {
       // One variable u in [0, 1] over the time span: a minimum duration (s) is that fraction of the span.
       const double span = q.trajectory.times.empty() ? 0.0 : q.trajectory.times.back() - q.trajectory.times.front();
       if (span > 0.0) o.min_width = DVec::Constant(1, q.min_width / span);
+    } else if (q.domain == QueryDomain::Variety) {
+      o.min_width = DVec::Constant(q.variety.parameters, q.min_width);  // the parameters themselves
     } else {
       o.min_width = DVec::Constant(6, q.min_width);
     }
@@ -115,7 +133,7 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
     o.geometry_splitting = verify::GeometrySplitting::Auto;
   }
   o.stall_levels = q.stall_levels;
-  if (!q.is_trajectory) o.max_recorded_safe_boxes = q.record_safe_boxes;
+  if (q.domain == QueryDomain::Workspace) o.max_recorded_safe_boxes = q.record_safe_boxes;
   o.decompose_geometry = q.geometry_form == "decomposed";
   o.cancel = hooks.cancel;
   o.progress = hooks.progress;
@@ -134,20 +152,49 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
   // itself proves (documented in srv/VerifyWorkspace.srv).
   out.lower_bound.fill(0.0);
   out.upper_bound.fill(kInf);
+
+  // The pose at a point of the box variables, for the response: a workspace's variables are its poses in the
+  // query's frame; a trajectory's or variety's pose is the midpoint of the verifier's certified enclosure of the
+  // base-frame pose there, or, in another frame, of the domain's own pose in that frame.
+  const bool workspace = q.domain == QueryDomain::Workspace;
+  const int variables = workspace ? 6 : q.domain == QueryDomain::Trajectory ? 1 : q.variety.parameters;
+  const std::unique_ptr<domain::Domain> inFrame = !workspace && q.has_transform ? inOwnFrame(q) : nullptr;
+  const auto poseAt = [&](const DVec& point, const IVec& basePose) {
+    std::array<double, 6> out{};
+    if (workspace) {
+      copy6(point, out);
+      return out;
+    }
+    const IVec pose = inFrame ? inFrame->poseAt(point) : basePose;
+    for (int k = 0; k < 6 && k < pose.size(); ++k) out[static_cast<std::size_t>(k)] = pose[k].mid();
+    return out;
+  };
+
   if (q.mode == QueryMode::MaxError) {
     copy6(r.max_lower, out.lower_bound);
     copy6(r.max_upper, out.upper_bound);
     out.converged = r.converged;
-    if (q.is_trajectory) {
+    if (q.domain == QueryDomain::Trajectory) {
       out.lower_bound_times.assign(6, q.trajectory.timeOf(0.0));
       for (std::size_t k = 0; k < 6 && k < r.max_argmax.size(); ++k) {
         if (r.max_argmax[k].size() >= 1) out.lower_bound_times[k] = q.trajectory.timeOf(r.max_argmax[k][0]);
       }
-    }
-    if (!q.is_trajectory) out.lower_bound_poses.assign(36, 0.0);
-    for (std::size_t k = 0; k < 6 && k < r.max_argmax.size() && !q.is_trajectory; ++k) {
-      const DVec& p = r.max_argmax[k];
-      for (int i = 0; i < 6 && i < p.size(); ++i) out.lower_bound_poses[6 * k + static_cast<std::size_t>(i)] = p[i];
+    } else {
+      // Workspace: the argmax poses; variety: the argmax parameter points and their poses (the verifier gives the
+      // points only: the pose is the domain's there).
+      const auto m = static_cast<std::size_t>(variables);
+      out.lower_bound_poses.assign(36, 0.0);
+      if (!workspace) out.lower_bound_parameters.assign(6 * m, 0.0);
+      const std::unique_ptr<domain::Domain> own = workspace ? nullptr : toDomain(q);  // base-frame poses
+      for (std::size_t k = 0; k < 6 && k < r.max_argmax.size(); ++k) {
+        const DVec& p = r.max_argmax[k];
+        if (p.size() != variables) continue;
+        const std::array<double, 6> pose = poseAt(p, own ? own->poseAt(p) : IVec());
+        for (std::size_t i = 0; i < 6; ++i) out.lower_bound_poses[6 * k + i] = pose[i];
+        for (std::size_t i = 0; i < m && !workspace; ++i) {
+          out.lower_bound_parameters[m * k + i] = p[static_cast<int>(i)];
+        }
+      }
     }
     // With uncertain geometry: the geometry attaining each lower bound. A component whose bound holds for every
     // geometry (the verifier leaves its row empty) is attained by any: the centre geometry is reported.
@@ -168,27 +215,12 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     if (r.witness_error_lower.size() == 6) copy6(r.witness_error_lower, out.lower_bound);
   }
 
-  // A trajectory's pose at u, for the response: the midpoint of the verifier's certified enclosure of the base-frame
-  // pose there, or, for waypoints in another frame, of the trajectory's own pose in that frame.
-  const std::unique_ptr<domain::PiecewiseTrajectory> inFrame =
-      q.is_trajectory && q.has_transform ? toTrajectory(q.trajectory) : nullptr;
-  const auto trajectoryPose = [&inFrame](double u, const IVec& basePose) {
-    const IVec pose = inFrame ? inFrame->poseAt(DVec::Constant(1, u)) : basePose;
-    std::array<double, 6> out{};
-    for (int k = 0; k < 6 && k < pose.size(); ++k) out[static_cast<std::size_t>(k)] = pose[k].mid();
-    return out;
-  };
-
-  const bool witness = q.is_trajectory ? r.witness.size() == 1 && r.witness_pose.size() == 6 : r.witness.size() == 6;
+  const bool witness = r.witness.size() == variables && (workspace || r.witness_pose.size() == 6);
   if (r.verdict == verify::Verdict::Unsafe && witness && r.witness_component >= 0) {
     out.has_witness = true;
-    if (q.is_trajectory) {
-      // The variable is u.
-      out.witness_t = q.trajectory.timeOf(r.witness[0]);
-      out.witness_pose = trajectoryPose(r.witness[0], r.witness_pose);
-    } else {
-      copy6(r.witness, out.witness_pose);
-    }
+    out.witness_pose = poseAt(r.witness, r.witness_pose);
+    if (q.domain == QueryDomain::Trajectory) out.witness_t = q.trajectory.timeOf(r.witness[0]);  // the variable is u
+    if (q.domain == QueryDomain::Variety) append(r.witness, out.witness_parameters);
     out.witness_component = r.witness_component;
     if (r.witness_error_lower.size() == 6) {
       copy6(r.witness_error_lower, out.witness_error);
@@ -204,23 +236,24 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
 
   if (r.singular && r.singular_pose_from.size() == 6 && r.singular_pose_to.size() == 6) {
     out.singular = true;
-    // (Like the witness: a workspace's variables are its poses in the request's frame; a trajectory's poses are
-    // trajectoryPose()'s.)
-    const bool variables =
-        r.singular_from.size() == (q.is_trajectory ? 1 : 6) && r.singular_to.size() == r.singular_from.size();
+    // (Like the witness, through poseAt(); the certified base-frame poses where the points are missing.)
+    const bool points = r.singular_from.size() == variables && r.singular_to.size() == variables;
     std::array<double, 6> from{}, to{};
     for (int i = 0; i < 6; ++i) {
       from[static_cast<std::size_t>(i)] = r.singular_pose_from[i].mid();
       to[static_cast<std::size_t>(i)] = r.singular_pose_to[i].mid();
     }
-    if (variables && q.is_trajectory) {
-      from = trajectoryPose(r.singular_from[0], r.singular_pose_from);
-      to = trajectoryPose(r.singular_to[0], r.singular_pose_to);
-      out.singular_t[0] = q.trajectory.timeOf(r.singular_from[0]);
-      out.singular_t[1] = q.trajectory.timeOf(r.singular_to[0]);
-    } else if (variables) {
-      copy6(r.singular_from, from);
-      copy6(r.singular_to, to);
+    if (points) {
+      from = poseAt(r.singular_from, r.singular_pose_from);
+      to = poseAt(r.singular_to, r.singular_pose_to);
+      if (q.domain == QueryDomain::Trajectory) {
+        out.singular_t[0] = q.trajectory.timeOf(r.singular_from[0]);
+        out.singular_t[1] = q.trajectory.timeOf(r.singular_to[0]);
+      }
+      if (q.domain == QueryDomain::Variety) {
+        append(r.singular_from, out.singular_parameters);
+        append(r.singular_to, out.singular_parameters);
+      }
     }
     for (std::size_t k = 0; k < 6; ++k) {
       out.singular_poses[k] = from[k];
@@ -253,17 +286,25 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     s.passing_geometry = p.passing_geometry;
     s.passing_upper = p.passing_geometry.empty() ? 0.0 : p.passing_upper;
     s.passes_all = !p.passing_geometry.empty() && p.passes_all;
-    if (q.is_trajectory) {
-      // As the witness: the variable is u.
-      if (p.point.size() >= 1) {
-        s.t = q.trajectory.timeOf(p.point[0]);
-        s.pose = trajectoryPose(p.point[0], p.pose);
+    if (!workspace) {
+      // As the witness.
+      if (p.point.size() == variables) {
+        s.pose = poseAt(p.point, p.pose);
+        if (q.domain == QueryDomain::Trajectory) s.t = q.trajectory.timeOf(p.point[0]);
+        if (q.domain == QueryDomain::Variety) append(p.point, s.parameters);
       } else {
         for (int k = 0; k < 6 && k < p.pose.size(); ++k) s.pose[static_cast<std::size_t>(k)] = p.pose[k].mid();
       }
-      if (p.region.size() >= 1 && !p.region[0].isEmpty()) {
-        s.t_start = q.trajectory.timeOf(p.region[0].lower());
-        s.t_end = q.trajectory.timeOf(p.region[0].upper());
+      if (p.region.size() == variables && !p.region[0].isEmpty()) {
+        if (q.domain == QueryDomain::Trajectory) {
+          s.t_start = q.trajectory.timeOf(p.region[0].lower());
+          s.t_end = q.trajectory.timeOf(p.region[0].upper());
+        } else {
+          for (int i = 0; i < variables; ++i) {
+            s.region_lower.push_back(p.region[i].lower());
+            s.region_upper.push_back(p.region[i].upper());
+          }
+        }
       }
     } else {
       // The workspace's variables (in the query's frame), as the witness and the undecided boxes.
@@ -281,7 +322,18 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
   out.undecided_max.fill(0.0);
   bool first = true;
   out.undecided_recorded.reserve(r.undecided_boxes.size());
-  if (q.is_trajectory) {
+  if (q.domain == QueryDomain::Variety) {
+    // The parameter boxes themselves.
+    for (const verify::BoxRecord& b : r.undecided_boxes) {
+      if (b.box.size() != variables) continue;
+      for (int i = 0; i < variables; ++i) {
+        out.undecided_parameters_lower.push_back(b.box[i].lower());
+        out.undecided_parameters_upper.push_back(b.box[i].upper());
+      }
+    }
+    return out;
+  }
+  if (q.domain == QueryDomain::Trajectory) {
     // One variable (u): the undecided boxes as time intervals, sorted and merged (as pkm_verify's undecided_t).
     for (const verify::BoxRecord& b : r.undecided_boxes) {
       if (b.box.size() < 1 || b.box[0].isEmpty()) continue;

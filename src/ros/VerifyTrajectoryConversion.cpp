@@ -123,7 +123,7 @@ bool readPolynomialSegments(const VerifyTrajectory::Request& req, TrajectorySpec
 bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
                  WorkspaceQuery& out, std::string& error) {
   WorkspaceQuery q;
-  q.is_trajectory = true;
+  q.domain = QueryDomain::Trajectory;
   // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
   q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
   if (!fields::mode(req.mode, q.mode, error)) return false;

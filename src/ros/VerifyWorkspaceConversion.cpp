@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/ros/CoreBridge.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
@@ -222,7 +223,18 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.mode =
       q.mode == QueryMode::MaxError ? VerifyWorkspace::Request::MODE_MAX_ERROR : VerifyWorkspace::Request::MODE_VERIFY;
   msg.method = method;
-  if (q.is_trajectory) {
+  if (q.domain == QueryDomain::Variety) {
+    // /verify_variety: region_type "variety", workspace_min / max = an enclosure of all its poses (the interval
+    // evaluation of its polynomials over [0, 1]^m).
+    msg.region_type = "variety";
+    const auto variety = toVariety(q.variety);
+    enclosure::BoxInput view;
+    variety->poseView(variety->initialBox(), /*gradient=*/false, view);
+    for (std::size_t k = 0; k < 6 && static_cast<int>(k) < view.pose.size(); ++k) {
+      msg.workspace_min[k] = view.pose[static_cast<int>(k)].lower();
+      msg.workspace_max[k] = view.pose[static_cast<int>(k)].upper();
+    }
+  } else if (q.domain == QueryDomain::Trajectory) {
     // /verify_trajectory: region_type "trajectory", workspace_min / max = the bounding box of its waypoints.
     msg.region_type = "trajectory";
     const auto& poses = q.trajectory.poses;
@@ -261,7 +273,7 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   }
   msg.lower_bound_poses = o.lower_bound_poses;
   msg.outside_fraction = o.outside_fraction;
-  if (!q.is_trajectory) {
+  if (q.domain == QueryDomain::Workspace) {
     for (std::size_t k = 0; k < 6; ++k) {
       msg.sensitive_region_min[k] = o.sensitive.region.lo[k];
       msg.sensitive_region_max[k] = o.sensitive.region.hi[k];

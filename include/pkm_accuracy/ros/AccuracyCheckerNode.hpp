@@ -3,10 +3,11 @@
 // the core verifier, publishing ~progress while a job runs, and its result on ~verdict (latched) and its boxes on
 // ~boxes (visualization_msgs/MarkerArray, latched) when it ends. /verify_trajectory (service) and ~verify_trajectory
 // (action) verify every pose of a trajectory (waypoints or polynomial segments) through the same jobs (limit, busy
-// answer, ~progress, ~verdict; ~boxes draws its path); both actions share one implementation (onGoal / runGoal,
-// templates on the action type). A workspace or trajectory given in another frame than the base frame is looked up in
-// tf2 at request time and handed to the core as a domain::TransformedDomain. The ROS layer only translates: every
-// decision about accuracy is the core's, behind the seam verifyWorkspace().
+// answer, ~progress, ~verdict; ~boxes draws its path), and /verify_variety (service) every pose of a motion variety
+// (a surface, volume, ... of poses polynomial in m parameters; ~boxes draws its parameter grid); both actions share one
+// implementation (onGoal / runGoal, templates on the action type). A workspace or trajectory given in another frame
+// than the base frame is looked up in tf2 at request time and handed to the core as a domain::TransformedDomain. The
+// ROS layer only translates: every decision about accuracy is the core's, behind the seam verifyWorkspace().
 #pragma once
 
 #include <atomic>
@@ -32,6 +33,7 @@
 #include "pkm_accuracy/Progress.h"
 #include "pkm_accuracy/VerifyTrajectory.h"
 #include "pkm_accuracy/VerifyTrajectoryAction.h"
+#include "pkm_accuracy/VerifyVariety.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/VerifyWorkspaceAction.h"
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
@@ -46,6 +48,7 @@ namespace ros_layer {
 /// Global names of the verification services (they do not move with the node's name or namespace).
 constexpr const char* kVerifyWorkspaceService = "/verify_workspace";
 constexpr const char* kVerifyTrajectoryService = "/verify_trajectory";
+constexpr const char* kVerifyVarietyService = "/verify_variety";
 /// Private names of the actions (~verify_workspace, i.e. /pkm_accuracy/verify_workspace with the launch file's name,
 /// and ~verify_trajectory).
 constexpr const char* kVerifyWorkspaceAction = "verify_workspace";
@@ -101,6 +104,12 @@ class AccuracyCheckerNode {
   /// /verify_trajectory: the same job admission (~max_parallel_jobs, busy), runJob(), ~progress and ~verdict as
   /// /verify_workspace; only the translation differs (VerifyTrajectoryConversion.hpp).
   bool onVerifyTrajectory(VerifyTrajectory::Request& req, VerifyTrajectory::Response& res);
+  /// /verify_variety: likewise (VerifyVarietyConversion.hpp).
+  bool onVerifyVariety(VerifyVariety::Request& req, VerifyVariety::Response& res);
+  /// The three services' common handler: fromRequest(), admit(), runJob(), toResponse(); never throws, never
+  /// answers with a transport error (success false + message instead).
+  template <class Srv>
+  bool onVerify(typename Srv::Request& req, typename Srv::Response& res, const char* name);
   bool onCancel(Cancel::Request& req, Cancel::Response& res);
   /// A goal of either action (~verify_workspace, ~verify_trajectory; `name` = its private name): validated like the
   /// service request (REJECTED naming the field), admitted under the same job limit (REJECTED, result.busy) and run
@@ -148,6 +157,7 @@ class AccuracyCheckerNode {
   ros::ServiceServer cancel_srv_;
   ros::ServiceServer verify_workspace_srv_;
   ros::ServiceServer verify_trajectory_srv_;
+  ros::ServiceServer verify_variety_srv_;
   ros::Publisher verdict_pub_;   ///< ~verdict (latched)
   ros::Publisher progress_pub_;  ///< ~progress
   ros::Publisher boxes_pub_;     ///< ~boxes (latched)

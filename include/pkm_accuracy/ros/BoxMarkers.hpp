@@ -39,6 +39,14 @@ constexpr const char* kMarkerNsLabel = "label";  ///< id 0: TEXT_VIEW_FACING, "j
 /// recorded); blue otherwise (no claim: max_error mode, or an UNSAFE verdict whose search stopped early).
 constexpr const char* kMarkerNsTrajectory = "trajectory";
 constexpr int kTrajectoryPieces = 200;
+/// Variety jobs: id 0: LINE_LIST, the parameter grid: for each parameter, the lines along it with the other
+/// parameters at grid values (at most kVarietyGridValues per parameter and about kVarietyGridLines lines in all), each
+/// in kVarietyLinePieces pieces (kTrajectoryPieces for one parameter), coloured as a trajectory's path: orange where
+/// a piece meets a recorded undecided parameter box, green where proven, blue otherwise.
+constexpr const char* kMarkerNsVariety = "variety";
+constexpr int kVarietyGridValues = 11;
+constexpr int kVarietyGridLines = 60;
+constexpr int kVarietyLinePieces = 40;
 
 /// The markers of a finished job: first a DELETEALL (clears the previous job's), then the markers above. Poses of
 /// the query's frame are mapped to `base_frame` with the query's transform (poses only: display, not a proof).
@@ -47,9 +55,15 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& query, cons
                                                const std::string& base_frame, const ros::Time& stamp,
                                                std::size_t max_boxes);
 
-/// The markers of a finished trajectory job (query.is_trajectory): a DELETEALL, the path (kMarkerNsTrajectory), the
-/// witness, singular and sensitive markers and the label; positions of the query's frame mapped to `base_frame` as
-/// above. @throws InvalidArgument if the query's trajectory was not validated.
+/// The markers of a finished variety job (QueryDomain::Variety): a DELETEALL, its parameter grid (kMarkerNsVariety),
+/// the witness, singular and sensitive markers and the label; positions of the query's frame mapped to `base_frame`
+/// as above. @throws InvalidArgument if the query's variety was not validated.
+visualization_msgs::MarkerArray makeVarietyMarkers(const WorkspaceQuery& query, const WorkspaceOutcome& outcome,
+                                                   const std::string& base_frame, const ros::Time& stamp);
+
+/// The markers of a finished trajectory job (query.domain == QueryDomain::Trajectory): a DELETEALL, the path
+/// (kMarkerNsTrajectory), the witness, singular and sensitive markers and the label; positions of the query's frame
+/// mapped to `base_frame` as above. @throws InvalidArgument if the query's trajectory was not validated.
 visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& query, const WorkspaceOutcome& outcome,
                                                       const std::string& base_frame, const ros::Time& stamp);
 

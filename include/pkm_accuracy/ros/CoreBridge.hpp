@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 
+#include "pkm_accuracy/core/domain/ParametricVariety.hpp"
 #include "pkm_accuracy/core/domain/PiecewiseTrajectory.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/model/RobotModel.hpp"
@@ -31,8 +32,12 @@ domain::Workspace toWorkspace(const WorkspaceSpec& spec);
 /// @throws InvalidArgument if the spec was not validated (fromRequest() of VerifyTrajectoryConversion.hpp checks it).
 std::unique_ptr<domain::PiecewiseTrajectory> toTrajectory(const TrajectorySpec& spec);
 
-/// The search domain of a query: its workspace or trajectory, or, when the query has a transform (frame_id other than
-/// the base frame), the core's domain::TransformedDomain of it (which decides which transforms it supports).
+/// The motion variety of a query, in its frame_id.
+/// @throws InvalidArgument if the spec was not validated (fromRequest() of VerifyVarietyConversion.hpp checks it).
+std::unique_ptr<domain::ParametricVariety> toVariety(const VarietySpec& spec);
+
+/// The search domain of a query: its workspace, trajectory or variety, or, when the query has a transform (frame_id
+/// other than the base frame), the core's domain::TransformedDomain of it (which decides which transforms it supports).
 /// @throws InvalidArgument as toWorkspace, or the core's refusal of the transform (prefixed with "frame_id \"F\": ").
 std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query);
 

@@ -1,6 +1,6 @@
 // Translation between srv/VerifyTrajectory.srv, action/VerifyTrajectory.action and the ROS-free WorkspaceQuery
-// (is_trajectory) / WorkspaceOutcome. Every check of a request happens here (each rejection names the field), so the
-// core only sees valid waypoints.
+// (domain Trajectory) / WorkspaceOutcome. Every check of a request happens here (each rejection names the field), so
+// the core only sees valid waypoints.
 #pragma once
 
 #include <string>
@@ -13,8 +13,9 @@
 namespace pkm_accuracy {
 namespace ros_layer {
 
-/// Validates `req` and fills `out` (is_trajectory = true; options left at 0 / "" get `defaults`). `base_frame` is
-/// the robot's base frame: a frame_id equal to it becomes "" (any other frame is the node's to look up in tf2).
+/// Validates `req` and fills `out` (domain = QueryDomain::Trajectory; options left at 0 / "" get `defaults`).
+/// `base_frame` is the robot's base frame: a frame_id equal to it becomes "" (any other frame is the node's to look up
+/// in tf2).
 /// @param error on failure: "<field>: expected ..., got ...", e.g. "times[2]: expected a time greater than times[1]
 ///              = 1 s (strictly increasing), got 1"
 bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_frame, const QueryDefaults& defaults,

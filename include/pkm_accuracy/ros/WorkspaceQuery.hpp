@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "pkm_accuracy/core/domain/ParametricVariety.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 
 namespace pkm_accuracy {
@@ -56,19 +57,33 @@ struct TrajectorySpec {
   double timeOf(double u) const;
 };
 
+/// A motion variety of /verify_variety in the query's frame, already validated: `parameters` (m, 1 .. 6) parameters
+/// in [0, 1]^m, every pose coordinate (x, y, z in m; roll, pitch, yaw in rad) a sum of monomials (the core's plain
+/// ParametricVariety::Monomial).
+struct VarietySpec {
+  int parameters = 0;
+  std::array<std::vector<domain::ParametricVariety::Monomial>, 6> coordinates;
+};
+
+/// What a query verifies.
+enum class QueryDomain {
+  Workspace,   ///< /verify_workspace: `workspace`; min_width in m / rad
+  Trajectory,  ///< /verify_trajectory: `trajectory` (one box variable u over its time span); min_width in s
+  Variety,     ///< /verify_variety: `variety` (its m parameters are the box variables); min_width in parameter units
+};
+
 /// One request. Zeros in the options mean "the node's default"; fromRequest() has already substituted them.
 struct WorkspaceQuery {
-  WorkspaceSpec workspace;  ///< unused for a trajectory
-  /// true: the query is a trajectory (/verify_trajectory): `trajectory` is verified instead of `workspace`, and
-  /// min_width is a time (s).
-  bool is_trajectory = false;
+  QueryDomain domain = QueryDomain::Workspace;  ///< which of the three below is verified
+  WorkspaceSpec workspace;
   TrajectorySpec trajectory;
+  VarietySpec variety;
   std::array<double, 6> thresholds{};  ///< on |dX_k|: m, m, m, rad, rad, rad (may be +inf); all 0 = none given
   bool has_thresholds = false;
   QueryMode mode = QueryMode::Verify;
   double alpha = 0.0;        ///< max_error: relative accuracy > 0: upper - lower <= alpha * lower
   double time_budget = 0.0;  ///< s, > 0
-  double min_width = 0.0;    ///< m / rad, >= 0 (0: the verifier chooses)
+  double min_width = 0.0;    ///< m / rad, s or parameter units (see QueryDomain), >= 0 (0: the verifier chooses)
   unsigned threads = 0;      ///< 0 = all hardware threads
   std::string method;        ///< enclosure method name; "": the verifier's default
   /// Geometric uncertainty (robots with anchor uncertainty): "auto", "never" or "always" (verify::GeometrySplitting)
@@ -101,8 +116,10 @@ struct SensitiveSummary {
   std::array<double, 6> pose{};                ///< x, y, z (m), roll, pitch, yaw (rad); workspace: in the query's frame
   Box6 region;                                 ///< workspace: the search box it was found in (query's frame)
   double t = 0.0, t_start = 0.0, t_end = 0.0;  ///< trajectory: its time and the time interval searched (s)
-  std::vector<double> failing_geometry;        ///< one value per geometry parameter (model order)
-  std::vector<double> passing_geometry;        ///< empty: none found
+  /// variety: its parameter point and the parameter box searched (m numbers each; empty: none)
+  std::vector<double> parameters, region_lower, region_upper;
+  std::vector<double> failing_geometry;  ///< one value per geometry parameter (model order)
+  std::vector<double> passing_geometry;  ///< empty: none found
   double passing_upper = 0.0;
   bool passes_all = false;
 };
@@ -120,12 +137,15 @@ struct WorkspaceOutcome {
   bool converged = false;
   std::vector<double> lower_bound_poses;  ///< max_error: 6 x 6 row-major (row k: pose attaining lower_bound[k])
   std::vector<double> lower_bound_times;  ///< trajectory, max_error: 6 times (s) attaining lower_bound[k]
+  /// variety, max_error: 6 x m row-major (row k: the parameter point of row k of lower_bound_poses)
+  std::vector<double> lower_bound_parameters;
   /// max_error with geometry parameters: 6 x P row-major (row k: an admissible geometry, one value per parameter,
   /// attaining lower_bound[k] at row k of lower_bound_poses / at lower_bound_times[k]); empty otherwise.
   std::vector<double> lower_bound_geometries;
   bool has_witness = false;
-  std::array<double, 6> witness_pose{};  ///< x, y, z (m), roll, pitch, yaw (rad)
-  double witness_t = 0.0;                ///< trajectory: time of the witness (s)
+  std::array<double, 6> witness_pose{};    ///< x, y, z (m), roll, pitch, yaw (rad)
+  double witness_t = 0.0;                  ///< trajectory: time of the witness (s)
+  std::vector<double> witness_parameters;  ///< variety: the witness's parameter point (m numbers; empty: none)
   int witness_component = -1;
   std::array<double, 6> witness_error{};
   /// A certified singular pose between the two poses of singular_poses (x, y, z, roll, pitch, yaw each; see
@@ -133,6 +153,7 @@ struct WorkspaceOutcome {
   bool singular = false;
   std::array<double, 12> singular_poses{};
   std::array<double, 2> singular_t{};
+  std::vector<double> singular_parameters;  ///< variety: the two parameter points (2 x m; empty unless singular)
   std::uint64_t boxes = 0;
   unsigned max_depth = 0;
   unsigned threads = 0;
@@ -143,6 +164,8 @@ struct WorkspaceOutcome {
   std::array<double, 6> undecided_min{};  ///< hull of the recorded undecided boxes
   std::array<double, 6> undecided_max{};
   std::vector<Box6> undecided_recorded;  ///< the recorded undecided boxes themselves (for ~boxes; not in the srv)
+  /// variety: the recorded undecided parameter boxes, lower and upper corners (k x m row-major each)
+  std::vector<double> undecided_parameters_lower, undecided_parameters_upper;
   std::vector<Box6> safe_recorded;  ///< boxes proven safe (query.record_safe_boxes of them; for ~boxes; not in the srv)
   /// trajectory: the recorded undecided boxes as time intervals (s), sorted, merged where they touch or overlap
   std::vector<std::pair<double, double>> undecided_times;
