@@ -19,12 +19,14 @@
 #include "VerifyHelpers.hpp"
 #include "pkm_accuracy/VerificationResult.h"
 #include "pkm_accuracy/VerifyTrajectory.h"
+#include "pkm_accuracy/VerifyVariety.h"
 
 namespace {
 
 using namespace pkm_accuracy_test;  // NOLINT(build/namespaces)
 using pkm_accuracy::VerificationResult;
 using pkm_accuracy::VerifyTrajectory;
+using pkm_accuracy::VerifyVariety;
 
 constexpr double kUncertainty = 1e-4;  // uncertainty.test: ~anchor_uncertainty
 /// dx between the nominal maximum (~1.096e-4 m) and the worst geometry's (~1.103e-4 m) over smallRequest's box.
@@ -188,6 +190,68 @@ TEST(Uncertainty, TrajectoryReportsTheUncertaintySensitiveTime) {
   const double s = r.sensitive_t / 2.0;
   EXPECT_NEAR(r.sensitive_pose[0], -0.01 + 0.02 * s, 1e-12);
   EXPECT_NEAR(r.sensitive_pose[2], 0.48 - 0.01 * s, 1e-12);
+}
+
+TEST(Uncertainty, VarietyReportsTheUncertaintySensitiveParameters) {
+  // A surface through the corner of the sub-box where the worst geometry's dx is largest ((u, v) = (0, 0)).
+  VerifyVariety::Request req;
+  req.parameters = 2;
+  auto term = [](double c, std::uint32_t a, std::uint32_t b) {
+    pkm_accuracy::VarietyTerm t;
+    t.coefficient = c;
+    t.exponents = {a, b};
+    return t;
+  };
+  req.x = {term(-0.01, 0, 0), term(0.02, 1, 0)};
+  req.y = {term(0.01, 0, 0), term(-0.02, 0, 1)};
+  req.z = {term(0.48, 0, 0), term(-0.01, 1, 0)};
+  req.roll = {term(0.01, 0, 0), term(-0.02, 1, 0)};
+  req.pitch = {term(0.01, 0, 0), term(-0.02, 0, 1)};
+  req.yaw = {term(-0.01, 0, 0), term(0.02, 1, 1)};
+  req.thresholds = {kSensitive[0], kSensitive[1], kSensitive[2], kSensitive[3], kSensitive[4], kSensitive[5]};
+  req.time_budget = 20.0;
+  req.threads = 1;
+  ASSERT_TRUE(ros::service::waitForService("/verify_variety", ros::Duration(20.0)));
+  VerifyVariety srv;
+  srv.request = req;
+  ASSERT_TRUE(ros::service::call("/verify_variety", srv));
+  const auto& r = srv.response;
+  expectSensitive(r, kSensitive);
+  // The point, inside the parameter box it was found in, and the pose the surface's there.
+  ASSERT_EQ(r.sensitive_parameters.size(), 2u);
+  ASSERT_EQ(r.sensitive_region_lower.size(), 2u);
+  ASSERT_EQ(r.sensitive_region_upper.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_LE(0.0, r.sensitive_region_lower[i]);
+    EXPECT_LE(r.sensitive_region_lower[i], r.sensitive_parameters[i]);
+    EXPECT_LE(r.sensitive_parameters[i], r.sensitive_region_upper[i]);
+    EXPECT_LE(r.sensitive_region_upper[i], 1.0);
+  }
+  const double u = r.sensitive_parameters[0], v = r.sensitive_parameters[1];
+  EXPECT_NEAR(r.sensitive_pose[0], -0.01 + 0.02 * u, 1e-12);
+  EXPECT_NEAR(r.sensitive_pose[1], 0.01 - 0.02 * v, 1e-12);
+  EXPECT_NEAR(r.sensitive_pose[5], -0.01 + 0.02 * u * v, 1e-12);
+
+  // max_error: every lower bound is attained, by the robot with the reported geometry, at the reported pose.
+  VerifyVariety::Request max = req;
+  max.mode = VerifyVariety::Request::MODE_MAX_ERROR;
+  max.thresholds = {0, 0, 0, 0, 0, 0};
+  max.alpha = 0.02;
+  srv.request = max;
+  ASSERT_TRUE(ros::service::call("/verify_variety", srv));
+  const auto& m = srv.response;
+  ASSERT_TRUE(m.success) << m.message;
+  const std::size_t P = parameterNames().size();
+  ASSERT_EQ(m.lower_bound_geometries.size(), 6 * P);
+  ASSERT_EQ(m.lower_bound_poses.size(), 36u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    const std::vector<double> g(m.lower_bound_geometries.begin() + static_cast<long>(k * P),
+                                m.lower_bound_geometries.begin() + static_cast<long>((k + 1) * P));
+    std::array<double, 6> pose{};
+    for (std::size_t i = 0; i < 6; ++i) pose[i] = m.lower_bound_poses[6 * k + i];
+    EXPECT_GE(errorAt(robotWith(g), pose, static_cast<int>(k)), m.lower_bound[k] * (1.0 - 1e-9)) << k;
+    EXPECT_LE(m.lower_bound[k], m.upper_bound[k]);
+  }
 }
 
 TEST(Uncertainty, GeometrySplittingOptionsReachTheVerifier) {
