@@ -11,6 +11,7 @@
 #include "YamlReading.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
+#include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
 
 namespace pkm_accuracy {
@@ -184,9 +185,33 @@ std::shared_ptr<domain::ParametricVariety> variety(const YAML::Node& root, const
   }
 }
 
+/// `frame` (optional): the pose of the file's frame F in the robot's base frame, {translation: [x, y, z] (m), rpy:
+/// [roll, pitch, yaw] (rad, R = Rz(yaw) Ry(pitch) Rx(roll))}, each 0 when missing. The file's domain (poses and
+/// region in F) is then verified in the base frame through the core's TransformedDomain.
+void placeInFrame(const YAML::Node& root, const std::string& name, TrajectoryFile& f) {
+  const YAML::Node n = root["frame"];
+  if (!n) return;
+  const std::string where = name + ": frame";
+  if (!n.IsMap()) fail(where, "expected a map {translation: [x, y, z], rpy: [roll, pitch, yaw]}, got " + show(n));
+  checkKeys(n, where, {"translation", "rpy"});
+  const Eigen::Vector3d t = n["translation"] ? vec3(n["translation"], where + ".translation") : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d rpy = n["rpy"] ? vec3(n["rpy"], where + ".rpy") : Eigen::Vector3d::Zero();
+  try {
+    f.domain = std::make_shared<domain::TransformedDomain>(
+        f.domain, domain::RigidTransform::fromTranslationRpy(t, rpy[0], rpy[1], rpy[2]));
+  } catch (const InvalidArgument& e) {
+    fail(where, e.what());
+  }
+  std::ostringstream os;
+  os.precision(10);
+  os << ", in frame (translation [" << t[0] << ", " << t[1] << ", " << t[2] << "] m, rpy [" << rpy[0] << ", " << rpy[1]
+     << ", " << rpy[2] << "] rad)";
+  f.description += os.str();
+}
+
 TrajectoryFile build(const YAML::Node& root, const std::string& name) {
   if (!root.IsMap()) fail(name, "expected a YAML map at top level (waypoints, polynomial_segments or variety)");
-  checkKeys(root, name + ":", {"interpolation", "waypoints", "polynomial_segments", "variety", "region"});
+  checkKeys(root, name + ":", {"interpolation", "waypoints", "polynomial_segments", "variety", "region", "frame"});
   const int kinds = (root["waypoints"] ? 1 : 0) + (root["polynomial_segments"] ? 1 : 0) + (root["variety"] ? 1 : 0);
   if (kinds != 1) {
     fail(name, std::string(kinds == 0 ? "expected one of" : "expected exactly one of") +
@@ -204,6 +229,7 @@ TrajectoryFile build(const YAML::Node& root, const std::string& name) {
     f.description = v->description();
     f.variety = v;
     f.domain = v;
+    placeInFrame(root, name, f);
     return f;
   }
   std::shared_ptr<domain::PiecewiseTrajectory> t;
@@ -218,6 +244,7 @@ TrajectoryFile build(const YAML::Node& root, const std::string& name) {
   f.description = t->description();
   f.trajectory = t;
   f.domain = t;
+  placeInFrame(root, name, f);
   return f;
 }
 

@@ -662,6 +662,10 @@ TEST(TrajectoryFile, ErrorsNameTheFileKeyAndRow) {
       {"variety:\n  parameters: 7\n", {"traj.yaml: variety.parameters", "1 to 6"}},
       {"variety:\n  parameters: 2\n  x: [[1.0, 1]]\n", {"traj.yaml: variety.x[0]", "expected 3 numbers"}},
       {"waypoints: [\n", {"traj.yaml: invalid YAML"}},
+      {"waypoints:\n" + two + "frame: 3\n", {"traj.yaml: frame", "expected a map", "3"}},
+      {"waypoints:\n" + two + "frame: {rotation: [0, 0, 0]}\n", {"traj.yaml: frame", "rotation", "unknown key"}},
+      {"waypoints:\n" + two + "frame: {rpy: [0, 0]}\n", {"traj.yaml: frame.rpy"}},
+      {"waypoints:\n" + two + "frame: {translation: [0, .nan, 0]}\n", {"traj.yaml: frame.translation", "finite"}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.first);
@@ -674,6 +678,78 @@ TEST(TrajectoryFile, ErrorsNameTheFileKeyAndRow) {
   } catch (const ParseError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/traj.yaml: cannot open file"), std::string::npos);
   }
+}
+
+TEST(TrajectoryFile, FrameKeyVerifiesThePosesInTheBaseFrame) {
+  // A waypoint trajectory and a variety given in a frame F at translation t, rotation Rz(0.4) Ry(-0.03) Rx(0.02).
+  const Eigen::Vector3d t(0.01, -0.02, 0.05);
+  const Eigen::Matrix3d F = rotation((DVec(6) << 0, 0, 0, 0.02, -0.03, 0.4).finished());
+  const std::string frame = "frame: {translation: [0.01, -0.02, 0.05], rpy: [0.02, -0.03, 0.4]}\n";
+  const auto w = io::parseTrajectory(
+      "waypoints:\n"
+      "  - [0.0, -0.03, 0.02, 0.42, 0.02, -0.01, 0.1]\n"
+      "  - [2.0,  0.04, -0.01, 0.43, -0.03, 0.02, -0.2]\n" +
+          frame,
+      "w.yaml");
+  const auto v = io::parseTrajectory(
+      "variety:\n  parameters: 2\n  x: [[-0.03, 0, 0], [0.06, 1, 0]]\n  y: [[0.04, 0, 1]]\n  z: [[0.42, 0, 0]]\n"
+      "  yaw: [[0.1, 1, 1]]\n" +
+          frame,
+      "v.yaml");
+  EXPECT_NE(w.description.find("in frame (translation [0.01, -0.02, 0.05] m, rpy [0.02, -0.03, 0.4] rad)"),
+            std::string::npos)
+      << w.description;
+  // The independent mapping: p_base = t + F p, R_base = F R (principal RPY).
+  auto toBase = [&](const DVec& p) {
+    const Eigen::Matrix3d R = F * rotation(p);
+    const Eigen::Vector3d x = t + F * p.head<3>();
+    return (DVec(6) << x, std::atan2(R(2, 1), R(2, 2)), std::asin(-R(2, 0)), std::atan2(R(1, 0), R(0, 0))).finished();
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 50; ++i) {
+    // The trajectory itself stays in F; the domain's poses are its base-frame images.
+    const double u = unit(rng);
+    const DVec inF = w.trajectory->pointAtTime(2.0 * u).pose;
+    const IVec base = w.domain->poseAt(DVec::Constant(1, u));
+    const DVec want = toBase(inF);
+    for (int k = 0; k < 6; ++k) {
+      EXPECT_TRUE(base[k].contains(want[k]) || std::abs(base[k].mid() - want[k]) < 1e-14) << k;
+      EXPECT_LT(base[k].width(), 1e-12) << k;
+    }
+    const DVec uv = (DVec(2) << unit(rng), unit(rng)).finished();
+    DVec pose;
+    DMat jac;
+    v.variety->pointAt(uv, pose, jac);
+    const IVec vb = v.domain->poseAt(uv);
+    const DVec vw = toBase(pose);
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(vb[k].mid(), vw[k], 1e-14) << k;
+  }
+  // The verifier on the framed domain: max-error brackets the maxima of the base-frame poses sampled by the oracle,
+  // and they differ from the unframed trajectory's (the frame is not ignored).
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.alpha = 0.005;
+  o.alpha_relative = true;
+  o.time_limit_s = 20.0;
+  const verify::VerifierResult r = verify::Verifier::run(ref6(), *w.domain, o);
+  const verify::VerifierResult plain = verify::Verifier::run(ref6(), *w.trajectory, o);
+  ASSERT_TRUE(r.converged) << r.message;
+  DVec sampled = DVec::Zero(6), sampledPlain = DVec::Zero(6);
+  for (int i = 0; i <= 2000; ++i) {
+    const DVec inF = w.trajectory->pointAtTime(2.0 * i / 2000).pose;
+    sampled = sampled.cwiseMax(worstError(toBase(inF)));
+    sampledPlain = sampledPlain.cwiseMax(worstError(inF));
+  }
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_LE(r.max_lower[k], sampled[k] * (1 + 1e-9)) << k;  // attained (up to the sampling)
+    EXPECT_GE(r.max_upper[k], sampled[k]) << k;
+    EXPECT_GE(sampled[k], r.max_upper[k] / 1.01) << k;
+  }
+  bool differs = false;
+  for (int k = 0; k < 6; ++k)
+    differs = differs || std::abs(plain.max_upper[k] - r.max_upper[k]) > 0.02 * r.max_upper[k];
+  EXPECT_TRUE(differs);
 }
 
 // ---- command-line tool ------------------------------------------------------------------------------------------

@@ -21,6 +21,10 @@
 //     centre: [x, y(, z)]  radius: r  z: [min, max]       # cylinder (z range) / sphere (3-D centre)
 //     normals: [[nx, ny, nz], ...]  offsets: [d, ...]     # polyhedron: n . p <= d
 //
+//   frame:                                 # optional: the poses (and region) are in a frame F placed in the robot's
+//     translation: [x, y, z]               # base frame at this translation (m) and rotation Rz(yaw) Ry(pitch) Rx(roll)
+//     rpy: [roll, pitch, yaw]              # (rad); both optional (0); verified exactly in the base frame
+//
 // Unknown keys are errors (a typo must not silently change the problem). Every error is a ParseError whose message
 // names the file, the key and the row, e.g. "traj.yaml: waypoints[3][0]: time 1 s is not greater than ...".
 #pragma once
@@ -38,10 +42,12 @@ namespace io {
 struct TrajectoryFile {
   enum class Kind { Waypoints, Polynomial, Variety };
   Kind kind = Kind::Waypoints;
-  std::shared_ptr<const domain::Domain> domain;  ///< the domain to verify (never null)
-  /// The same object as a one-parameter trajectory (Waypoints, Polynomial), else null.
+  /// The domain to verify (never null): the trajectory / variety below, or, with a `frame`, the core's
+  /// TransformedDomain of it (its poses in the base frame; the variables are the same).
+  std::shared_ptr<const domain::Domain> domain;
+  /// The trajectory itself (in the file's frame) as a one-parameter trajectory (Waypoints, Polynomial), else null.
   std::shared_ptr<const domain::PiecewiseTrajectory> trajectory;
-  /// The same object as a variety (Variety), else null.
+  /// The variety itself (in the file's frame) (Variety), else null.
   std::shared_ptr<const domain::ParametricVariety> variety;
   std::string description;  ///< e.g. "waypoints (slerp), 12 waypoints"
   std::string region;       ///< position region type, or "none"

@@ -60,7 +60,7 @@ RigidTransform RigidTransform::fromTranslationRpy(const Eigen::Vector3d& transla
   return t;
 }
 
-TransformedDomain::TransformedDomain(std::unique_ptr<Domain> inner, const RigidTransform& base_from_frame)
+TransformedDomain::TransformedDomain(std::shared_ptr<const Domain> inner, const RigidTransform& base_from_frame)
     : inner_(std::move(inner)), translation_(base_from_frame.translation) {
   if (!inner_) throw InvalidArgument("transformed domain: expected a domain, got none (null)");
   const Eigen::Matrix3d& r = base_from_frame.rotation;

@@ -58,7 +58,7 @@ class TransformedDomain : public Domain {
   /// @param base_from_frame the pose of F in the base frame
   /// @throws InvalidArgument if inner is null, the translation or rotation is not finite or the rotation is not a
   ///         rotation matrix (orthonormal within kOrthonormalityTolerance, determinant +1); the message names which.
-  TransformedDomain(std::unique_ptr<Domain> inner, const RigidTransform& base_from_frame);
+  TransformedDomain(std::shared_ptr<const Domain> inner, const RigidTransform& base_from_frame);
 
   /// The inner domain's variables, names and initial box (in frame F).
   int variables() const override { return inner_->variables(); }
@@ -91,7 +91,7 @@ class TransformedDomain : public Domain {
   template <typename S>
   void map(S pose[6], const std::array<double, 2>& ref) const;
 
-  std::unique_ptr<Domain> inner_;
+  std::shared_ptr<const Domain> inner_;  ///< (shared: a caller may keep using the domain in F, e.g. for its times)
   Eigen::Vector3d translation_;
   std::array<double, 3> rpy_{};
   bool aboutZ_ = true;
