@@ -149,6 +149,52 @@ void addLabel(const WorkspaceOutcome& o, const Placement& placement, const std::
   array.markers.push_back(m);
 }
 
+/// A LINE_LIST drawn piece by piece (positions in the query's frame), each piece coloured by what the verifier reports
+/// about it: orange where it meets a recorded undecided box, green where every other point is proven within the
+/// thresholds (`proven`), blue otherwise.
+class ColouredLines {
+ public:
+  ColouredLines(const WorkspaceQuery& q, const WorkspaceOutcome& o, const std::string& frame, const ros::Time& stamp,
+                const char* ns)
+      : marker_(newMarker(frame, stamp, ns, 0, visualization_msgs::Marker::LINE_LIST)),
+        proven_(q.mode == QueryMode::Verify && o.success && !o.has_witness && o.verdict != "UNSAFE" &&
+                o.undecided_boxes_recorded == o.undecided_boxes) {}
+
+  void add(const Eigen::Vector3d& a, const Eigen::Vector3d& b, bool undecided) {
+    marker_.points.push_back(point(a));
+    marker_.points.push_back(point(b));
+    lo_ = lo_.cwiseMin(a).cwiseMin(b);
+    hi_ = hi_.cwiseMax(a).cwiseMax(b);
+    const std_msgs::ColorRGBA c = undecided ? color(1.0f, 0.55f, 0.0f, 1.0f)
+                                  : proven_ ? color(0.1f, 0.8f, 0.2f, 1.0f)
+                                            : color(0.2f, 0.6f, 1.0f, 1.0f);
+    marker_.colors.push_back(c);
+    marker_.colors.push_back(c);
+  }
+
+  /// Appends the lines (`width` times the drawing's size), then the witness, singular and sensitive markers and the
+  /// label above them (`boxes`: what the label counts, e.g. "time interval(s)").
+  void finish(const WorkspaceOutcome& o, const Placement& placement, double width, const char* boxes,
+              visualization_msgs::MarkerArray& array) {
+    const Eigen::Vector3d size = hi_ - lo_, centre = 0.5 * (lo_ + hi_);
+    const double unit = std::max(size.norm(), 1e-3);  // scale of the drawing (m)
+    placement.place(marker_, Eigen::Vector3d::Zero());
+    marker_.scale.x = width * unit;
+    marker_.color = color(1.0f, 1.0f, 1.0f, 1.0f);  // (per-point colours above)
+    array.markers.push_back(marker_);
+    const std::string& frame = marker_.header.frame_id;
+    const ros::Time& stamp = marker_.header.stamp;
+    addPoseMarkers(o, placement, frame, stamp, unit, /*sensitiveRegion=*/false, array);
+    addLabel(o, placement, frame, stamp, Eigen::Vector3d(centre.x(), centre.y(), hi_.z() + 0.1 * unit), unit, boxes,
+             array);
+  }
+
+ private:
+  visualization_msgs::Marker marker_;
+  bool proven_;
+  Eigen::Vector3d lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi_ = -lo_;
+};
+
 }  // namespace
 
 visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const WorkspaceOutcome& o,
@@ -259,35 +305,13 @@ visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& q, c
     const DVec p = trajectory->pointAtTime(t == inside ? t : std::nextafter(t, inside)).pose;
     return Eigen::Vector3d(p[0], p[1], p[2]);
   };
-  const bool proven = q.mode == QueryMode::Verify && o.success && !o.has_witness && o.verdict != "UNSAFE" &&
-                      o.undecided_boxes_recorded == o.undecided_boxes;
-  visualization_msgs::Marker path =
-      newMarker(base_frame, stamp, kMarkerNsTrajectory, 0, visualization_msgs::Marker::LINE_LIST);
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  ColouredLines path(q, o, base_frame, stamp, kMarkerNsTrajectory);
   for (const auto& [ta, tb] : pieces) {
-    const Eigen::Vector3d a = position(ta, tb), b = position(tb, ta);
-    path.points.push_back(point(a));
-    path.points.push_back(point(b));
-    lo = lo.cwiseMin(a).cwiseMin(b);
-    hi = hi.cwiseMax(a).cwiseMax(b);
     bool undecided = false;
     for (const auto& [ua, ub] : o.undecided_times) undecided = undecided || (ua <= tb && ta <= ub);
-    const std_msgs::ColorRGBA c = undecided ? color(1.0f, 0.55f, 0.0f, 1.0f)
-                                  : proven  ? color(0.1f, 0.8f, 0.2f, 1.0f)
-                                            : color(0.2f, 0.6f, 1.0f, 1.0f);
-    path.colors.push_back(c);
-    path.colors.push_back(c);
+    path.add(position(ta, tb), position(tb, ta), undecided);
   }
-  const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);
-  const double unit = std::max(size.norm(), 1e-3);  // scale of the drawing (m)
-  placement.place(path, Eigen::Vector3d::Zero());
-  path.scale.x = 4e-3 * unit;
-  path.color = color(1.0f, 1.0f, 1.0f, 1.0f);  // (per-point colours above)
-  array.markers.push_back(path);
-
-  addPoseMarkers(o, placement, base_frame, stamp, unit, /*sensitiveRegion=*/false, array);
-  addLabel(o, placement, base_frame, stamp, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit), unit,
-           "time interval(s)", array);
+  path.finish(o, placement, 4e-3, "time interval(s)", array);
   return array;
 }
 
@@ -308,11 +332,7 @@ visualization_msgs::MarkerArray makeVarietyMarkers(const WorkspaceQuery& q, cons
   for (int i = 1; i < m; ++i) others *= values;
   const auto m6 = static_cast<std::size_t>(m);
   const std::size_t undecided = o.undecided_parameters_lower.size() / m6;
-  const bool proven = q.mode == QueryMode::Verify && o.success && !o.has_witness && o.verdict != "UNSAFE" &&
-                      o.undecided_boxes_recorded == o.undecided_boxes;
-  visualization_msgs::Marker grid =
-      newMarker(base_frame, stamp, kMarkerNsVariety, 0, visualization_msgs::Marker::LINE_LIST);
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  ColouredLines grid(q, o, base_frame, stamp, kMarkerNsVariety);
   DVec t(m), pose;
   DMat jac;
   auto position = [&](const DVec& at) {
@@ -333,10 +353,6 @@ visualization_msgs::MarkerArray makeVarietyMarkers(const WorkspaceQuery& q, cons
         const Eigen::Vector3d pa = position(t);
         t[i] = b;
         const Eigen::Vector3d pb = position(t);
-        grid.points.push_back(point(pa));
-        grid.points.push_back(point(pb));
-        lo = lo.cwiseMin(pa).cwiseMin(pb);
-        hi = hi.cwiseMax(pa).cwiseMax(pb);
         // Does the piece (parameter i in [a, b], the others at t) meet a recorded undecided box?
         bool meets = false;
         for (std::size_t j = 0; j < undecided && !meets; ++j) {
@@ -348,24 +364,11 @@ visualization_msgs::MarkerArray makeVarietyMarkers(const WorkspaceQuery& q, cons
           }
           meets = inside;
         }
-        const std_msgs::ColorRGBA c = meets    ? color(1.0f, 0.55f, 0.0f, 1.0f)
-                                      : proven ? color(0.1f, 0.8f, 0.2f, 1.0f)
-                                               : color(0.2f, 0.6f, 1.0f, 1.0f);
-        grid.colors.push_back(c);
-        grid.colors.push_back(c);
+        grid.add(pa, pb, meets);
       }
     }
   }
-  const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);
-  const double unit = std::max(size.norm(), 1e-3);  // scale of the drawing (m)
-  placement.place(grid, Eigen::Vector3d::Zero());
-  grid.scale.x = 2e-3 * unit;
-  grid.color = color(1.0f, 1.0f, 1.0f, 1.0f);  // (per-point colours above)
-  array.markers.push_back(grid);
-
-  addPoseMarkers(o, placement, base_frame, stamp, unit, /*sensitiveRegion=*/false, array);
-  addLabel(o, placement, base_frame, stamp, Eigen::Vector3d(centre.x(), centre.y(), hi.z() + 0.1 * unit), unit,
-           "parameter box(es)", array);
+  grid.finish(o, placement, 2e-3, "parameter box(es)", array);
   return array;
 }
 
