@@ -99,6 +99,7 @@ AccuracyCheckerNode::~AccuracyCheckerNode() {
   reapActionThreads(true);
   workspace_action_server_.reset();
   trajectory_action_server_.reset();
+  variety_action_server_.reset();
   verify_workspace_srv_.shutdown();
   verify_trajectory_srv_.shutdown();
   verify_variety_srv_.shutdown();
@@ -217,16 +218,18 @@ bool AccuracyCheckerNode::start(std::string& error) {
   verify_variety_srv_ = verify_nh.advertiseService(kVerifyVarietyService, &AccuracyCheckerNode::onVerifyVariety, this);
   workspace_action_server_ = startActionServer<VerifyWorkspaceAction>(kVerifyWorkspaceAction);
   trajectory_action_server_ = startActionServer<VerifyTrajectoryAction>(kVerifyTrajectoryAction);
+  variety_action_server_ = startActionServer<VerifyVarietyAction>(kVerifyVarietyAction);
   verify_spinner_.reset(new ros::AsyncSpinner(static_cast<std::uint32_t>(max_parallel_jobs_ + 1), &verify_queue_));
   verify_spinner_->start();
 
   if (pnh_.param("publish_anchor_frames", true)) publishAnchorFrames();
-  ROS_INFO("Services: %s, %s, %s, %s, %s; actions: %s, %s; topics: %s, %s, %s (at most %d job(s) at once)",
+  ROS_INFO("Services: %s, %s, %s, %s, %s; actions: %s, %s, %s; topics: %s, %s, %s (at most %d job(s) at once)",
            describe_srv_.getService().c_str(), cancel_srv_.getService().c_str(),
            verify_workspace_srv_.getService().c_str(), verify_trajectory_srv_.getService().c_str(),
            verify_variety_srv_.getService().c_str(), pnh_.resolveName(kVerifyWorkspaceAction).c_str(),
-           pnh_.resolveName(kVerifyTrajectoryAction).c_str(), verdict_pub_.getTopic().c_str(),
-           progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(), max_parallel_jobs_);
+           pnh_.resolveName(kVerifyTrajectoryAction).c_str(), pnh_.resolveName(kVerifyVarietyAction).c_str(),
+           verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(),
+           max_parallel_jobs_);
   return true;
 }
 

@@ -87,7 +87,11 @@ bool fromRequest(const VerifyVariety::Request& req, const std::string& base_fram
   return true;
 }
 
-void toResponse(const WorkspaceOutcome& o, VerifyVariety::Response& res) {
+namespace {
+
+// The response and the action result have the same fields.
+template <class Response>
+void fillResponse(const WorkspaceOutcome& o, Response& res) {
   fields::fillCommonResponse(o, res);
   res.busy = o.busy;
   res.lower_bound_parameters = o.lower_bound_parameters;
@@ -99,6 +103,35 @@ void toResponse(const WorkspaceOutcome& o, VerifyVariety::Response& res) {
   res.sensitive_parameters = o.sensitive.parameters;
   res.sensitive_region_lower = o.sensitive.region_lower;
   res.sensitive_region_upper = o.sensitive.region_upper;
+}
+
+}  // namespace
+
+void toResponse(const WorkspaceOutcome& o, VerifyVariety::Response& res) { fillResponse(o, res); }
+
+void toResult(const WorkspaceOutcome& o, VerifyVarietyResult& result) { fillResponse(o, result); }
+
+VerifyVariety::Request toRequest(const VerifyVarietyGoal& g) {
+  VerifyVariety::Request r;
+  r.parameters = g.parameters;
+  r.x = g.x;
+  r.y = g.y;
+  r.z = g.z;
+  r.roll = g.roll;
+  r.pitch = g.pitch;
+  r.yaw = g.yaw;
+  r.thresholds = g.thresholds;
+  r.mode = g.mode;
+  r.alpha = g.alpha;
+  r.time_budget = g.time_budget;
+  r.min_width = g.min_width;
+  r.threads = g.threads;
+  r.method = g.method;
+  r.frame_id = g.frame_id;
+  r.geometry_splitting = g.geometry_splitting;
+  r.stall_levels = g.stall_levels;
+  r.geometry_form = g.geometry_form;
+  return r;
 }
 
 }  // namespace ros_layer

@@ -35,7 +35,7 @@ To convert(const From& from) {
   return to;
 }
 
-/// Every field of the outcome (workspace and trajectory ones) set to a value of its own.
+/// Every field of the outcome (workspace, trajectory and variety ones) set to a value of its own.
 inline pkm_accuracy::ros_layer::WorkspaceOutcome filledOutcome() {
   pkm_accuracy::ros_layer::WorkspaceOutcome o;
   o.success = true;
@@ -87,6 +87,15 @@ inline pkm_accuracy::ros_layer::WorkspaceOutcome filledOutcome() {
   o.sensitive.t = 26.5;
   o.sensitive.t_start = 27.5;
   o.sensitive.t_end = 28.5;
+  // Variety fields (m = 2).
+  o.lower_bound_parameters = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0, 0.0625, 0.1875, 0.3125, 0.4375};
+  o.witness_parameters = {0.5625, 0.6875};
+  o.singular_parameters = {0.1, 0.2, 0.3, 0.4};
+  o.undecided_parameters_lower = {0.01, 0.02, 0.03, 0.04};
+  o.undecided_parameters_upper = {0.05, 0.06, 0.07, 0.08};
+  o.sensitive.parameters = {0.81, 0.82};
+  o.sensitive.region_lower = {0.71, 0.72};
+  o.sensitive.region_upper = {0.91, 0.92};
   return o;
 }
 

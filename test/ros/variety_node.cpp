@@ -7,22 +7,27 @@
 //   reported parameter point, whose reported pose is the variety's there;
 // - a 3-parameter variety (a volume of poses); a variety in a tilted tf2 frame (the oracle composes the frame's
 //   transform itself); ~verdict (region "variety", the bounding box of the poses) and ~boxes (the parameter grid,
-//   green when SAFE); every malformed field refused by name while the node keeps serving.
+//   green when SAFE); every malformed field refused by name while the node keeps serving; the ~verify_variety
+//   action (goal / result = request / response field for field, the same answers, malformed goals rejected).
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include <actionlib/client/simple_action_client.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
 #include <Eigen/Geometry>
 
+#include "ActionHelpers.hpp"
 #include "VerifyHelpers.hpp"
 #include "pkm_accuracy/VerificationResult.h"
 #include "pkm_accuracy/VerifyVariety.h"
+#include "pkm_accuracy/VerifyVarietyAction.h"
 #include "pkm_accuracy/ros/BoxMarkers.hpp"
+#include "pkm_accuracy/ros/VerifyVarietyConversion.hpp"
 
 namespace {
 
@@ -346,6 +351,77 @@ TEST(VerifyVariety, VerdictAndBoxesDescribeTheVarietyJob) {
   EXPECT_NEAR(grid->points[0].x, p0[0], 1e-12);
   EXPECT_NEAR(grid->points[0].y, p0[1], 1e-12);
   EXPECT_NEAR(grid->points[0].z, p0[2], 1e-12);
+}
+
+// ---- the ~verify_variety action ---------------------------------------------------------------------------------
+
+using pkm_accuracy::VerifyVarietyAction;
+using pkm_accuracy::VerifyVarietyGoal;
+using pkm_accuracy::VerifyVarietyResult;
+using pkm_accuracy_test::bytes;
+using pkm_accuracy_test::convert;
+using Client = actionlib::SimpleActionClient<VerifyVarietyAction>;
+using State = actionlib::SimpleClientGoalState;
+
+Client& client() {
+  static Client c("/pkm_accuracy/verify_variety", true);
+  return c;
+}
+
+TEST(VarietyAction, GoalAndResultAreTheServicesRequestAndResponse) {
+  EXPECT_STREQ(ros::message_traits::md5sum<VerifyVarietyGoal>(), ros::message_traits::md5sum<VerifyVariety::Request>());
+  EXPECT_STREQ(ros::message_traits::md5sum<VerifyVarietyResult>(),
+               ros::message_traits::md5sum<VerifyVariety::Response>());
+  // Every field of a goal reaches the request, every field of an outcome the result (bytes equal to the response's).
+  VerifyVariety::Request r = surface({1.5, 2.5, 3.5, 4.5, 5.5, 6.5});
+  r.mode = "max_error";
+  r.alpha = 0.25;
+  r.time_budget = 11.5;
+  r.min_width = 0.125;
+  r.threads = 13;
+  r.method = "precond";
+  r.frame_id = "somewhere";
+  r.geometry_splitting = "never";
+  r.stall_levels = 14;
+  r.geometry_form = "combined";
+  EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(convert<VerifyVarietyGoal>(r))), bytes(r));
+  const pkm_accuracy::ros_layer::WorkspaceOutcome o = pkm_accuracy_test::filledOutcome();
+  VerifyVariety::Response res;
+  VerifyVarietyResult result;
+  pkm_accuracy::ros_layer::toResponse(o, res);
+  pkm_accuracy::ros_layer::toResult(o, result);
+  EXPECT_EQ(bytes(result), bytes(res));
+  EXPECT_EQ(res.lower_bound_parameters, o.lower_bound_parameters);
+  EXPECT_EQ(res.witness_parameters, o.witness_parameters);
+  EXPECT_EQ(res.singular_parameters, o.singular_parameters);
+  EXPECT_EQ(res.undecided_lower, o.undecided_parameters_lower);
+  EXPECT_EQ(res.undecided_upper, o.undecided_parameters_upper);
+  EXPECT_EQ(res.sensitive_parameters, o.sensitive.parameters);
+  EXPECT_EQ(res.sensitive_region_lower, o.sensitive.region_lower);
+  EXPECT_EQ(res.sensitive_region_upper, o.sensitive.region_upper);
+  EXPECT_EQ(res.lower_bound_poses, o.lower_bound_poses);
+}
+
+TEST(VarietyAction, GoalGivesTheServicesAnswerAndMalformedGoalsAreRejected) {
+  ASSERT_TRUE(client().waitForServer(ros::Duration(20.0)));
+  const std::array<double, 6> sampled = sampledMaxima(surface(kNone), 41);
+  const VerifyVariety::Request tight = surface(scaled(sampled, 0.95));
+  const State state = client().sendGoalAndWait(convert<VerifyVarietyGoal>(tight), ros::Duration(30.0));
+  ASSERT_EQ(state, State::SUCCEEDED) << state.toString() << ": " << state.getText();
+  const auto result = client().getResult();
+  ASSERT_TRUE(result);
+  ASSERT_EQ(result->verdict, "UNSAFE") << result->message;
+  const VerifyVariety::Response res = call(tight);
+  EXPECT_EQ(result->witness_parameters, res.witness_parameters);
+  EXPECT_EQ(result->witness_component, res.witness_component);
+  EXPECT_EQ(res.job_id, result->job_id + 1);  // one job counter for every interface
+
+  VerifyVariety::Request bad = tight;
+  bad.x[1].exponents = {1};
+  const State rejected = client().sendGoalAndWait(convert<VerifyVarietyGoal>(bad), ros::Duration(10.0));
+  EXPECT_EQ(rejected, State::REJECTED);
+  ASSERT_TRUE(client().getResult());
+  EXPECT_NE(client().getResult()->message.find("x[1].exponents"), std::string::npos) << client().getResult()->message;
 }
 
 }  // namespace

@@ -34,6 +34,7 @@
 #include "pkm_accuracy/VerifyTrajectory.h"
 #include "pkm_accuracy/VerifyTrajectoryAction.h"
 #include "pkm_accuracy/VerifyVariety.h"
+#include "pkm_accuracy/VerifyVarietyAction.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/VerifyWorkspaceAction.h"
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
@@ -53,11 +54,13 @@ constexpr const char* kVerifyVarietyService = "/verify_variety";
 /// and ~verify_trajectory).
 constexpr const char* kVerifyWorkspaceAction = "verify_workspace";
 constexpr const char* kVerifyTrajectoryAction = "verify_trajectory";
+constexpr const char* kVerifyVarietyAction = "verify_variety";
 
 class AccuracyCheckerNode {
  public:
   using WorkspaceActionServer = actionlib::ActionServer<VerifyWorkspaceAction>;
   using TrajectoryActionServer = actionlib::ActionServer<VerifyTrajectoryAction>;
+  using VarietyActionServer = actionlib::ActionServer<VerifyVarietyAction>;
 
   /// @param nh  public node handle (services with global names)
   /// @param pnh private node handle ("~"): robot parameters, ~describe
@@ -169,6 +172,7 @@ class AccuracyCheckerNode {
   std::unique_ptr<ros::AsyncSpinner> verify_spinner_;
   std::unique_ptr<WorkspaceActionServer> workspace_action_server_;
   std::unique_ptr<TrajectoryActionServer> trajectory_action_server_;
+  std::unique_ptr<VarietyActionServer> variety_action_server_;
   std::mutex threads_mutex_;
   std::vector<ActionThread> action_threads_;
   std::mutex jobs_mutex_;

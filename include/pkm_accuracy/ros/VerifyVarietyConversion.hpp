@@ -1,11 +1,12 @@
-// Translation between srv/VerifyVariety.srv and the ROS-free WorkspaceQuery (domain Variety) / WorkspaceOutcome.
-// Every check of a request happens here (each rejection names the field, e.g. "x[1].exponents[0]"), so the core only
-// sees a valid variety.
+// Translation between srv/VerifyVariety.srv, action/VerifyVariety.action and the ROS-free WorkspaceQuery (domain
+// Variety) / WorkspaceOutcome. Every check of a request happens here (each rejection names the field, e.g.
+// "x[1].exponents[0]"), so the core only sees a valid variety.
 #pragma once
 
 #include <string>
 
 #include "pkm_accuracy/VerifyVariety.h"
+#include "pkm_accuracy/VerifyVarietyAction.h"
 #include "pkm_accuracy/ros/WorkspaceQuery.hpp"
 
 namespace pkm_accuracy {
@@ -21,6 +22,12 @@ bool fromRequest(const VerifyVariety::Request& req, const std::string& base_fram
 
 /// Copies an outcome into a response.
 void toResponse(const WorkspaceOutcome& outcome, VerifyVariety::Response& res);
+
+/// The service request with the fields of an action goal (the goal is the request, field for field).
+VerifyVariety::Request toRequest(const VerifyVarietyGoal& goal);
+
+/// Copies an outcome into an action result (the result is the response, field for field).
+void toResult(const WorkspaceOutcome& outcome, VerifyVarietyResult& result);
 
 }  // namespace ros_layer
 }  // namespace pkm_accuracy
