@@ -1,7 +1,8 @@
 // Certified accuracy along a 100-waypoint trajectory inside the reference robot's `paper` workspace (x, y in
 // [-0.15, 0.15] m, z in [0.45, 0.50] m, angles in [-15, 15] deg): thresholds 5% above the maxima sampled at 10^5
 // times (plus every waypoint); prints the verdict, boxes and seconds (median of `repeats` runs) per interpolation,
-// enclosure method and thread count. Target (issue "Trajectories"): <= 100 ms.
+// enclosure method and thread count. Target (issue "Trajectories"): <= 100 ms. Then a tilted-frame trajectory and two
+// motion varieties (a surface and a volume of poses; no target, recorded in bench/RESULTS.md).
 // Usage: trajectory_bench [repeats] (default 5).
 #include <algorithm>
 #include <chrono>
@@ -16,6 +17,7 @@
 
 #include "BenchCommon.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/ParametricVariety.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 #include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
@@ -86,6 +88,33 @@ DVec sampledMax(const model::RobotModel& robot, const domain::PiecewiseTrajector
   return best;
 }
 
+/// Maxima of the worst error over a grid of n points per parameter of a variety.
+DVec sampledMax(const model::RobotModel& robot, const domain::ParametricVariety& v, int n) {
+  const int m = v.variables();
+  DVec best = DVec::Zero(6), t(m), pose;
+  DMat jac;
+  std::vector<int> idx(static_cast<std::size_t>(m), 0);
+  while (true) {
+    for (int i = 0; i < m; ++i) t[i] = static_cast<double>(idx[static_cast<std::size_t>(i)]) / (n - 1);
+    v.pointAt(t, pose, jac);
+    best = best.cwiseMax(robot.worstErrorAt(pose));
+    int i = 0;
+    while (i < m && ++idx[static_cast<std::size_t>(i)] == n) idx[static_cast<std::size_t>(i++)] = 0;
+    if (i == m) break;
+  }
+  return best;
+}
+
+/// A monomial c u^a v^b w^c.
+domain::ParametricVariety::Monomial mono(double c, int a, int b, int d = 0) {
+  domain::ParametricVariety::Monomial x;
+  x.coefficient = c;
+  x.exponents[0] = a;
+  x.exponents[1] = b;
+  x.exponents[2] = d;
+  return x;
+}
+
 void scenario(const char* name, const model::RobotModel& robot, const domain::Domain& traj, const DVec& thresholds,
               const std::string& method, int threads, int repeats) {
   verify::VerifierOptions o;
@@ -140,6 +169,29 @@ int main(int argc, char** argv) {
   const DVec max = sampledMax(robot, slerp, 100000);
   for (int threads : {1, 2}) {
     scenario("100 waypoints, slerp, tilted frame", robot, framed, max * 1.05, "second_order", threads, repeats);
+  }
+  // Motion varieties inside `paper`: a curved 0.24 m x 0.24 m surface with the orientation varying over +-0.2 rad,
+  // and a 3-parameter volume of poses (a 0.2 m x 0.2 m x 0.04 m block with the yaw turning along w and roll, pitch
+  // varying with u v), thresholds 5% above the maxima sampled on 201^2 / 41^3 grids.
+  const domain::ParametricVariety surface(2, {{{mono(-0.12, 0, 0), mono(0.24, 1, 0)},
+                                               {mono(-0.12, 0, 0), mono(0.24, 0, 1), mono(0.02, 1, 1)},
+                                               {mono(0.455, 0, 0), mono(0.04, 2, 0)},
+                                               {mono(-0.1, 0, 0), mono(0.2, 0, 1)},
+                                               {mono(0.15, 1, 1), mono(-0.05, 0, 0)},
+                                               {mono(0.2, 1, 0), mono(-0.2, 0, 2)}}});
+  const DVec surfaceMax = sampledMax(robot, surface, 201);
+  for (int threads : {1, 2}) {
+    scenario("variety: surface (m = 2), +5%", robot, surface, surfaceMax * 1.05, "second_order", threads, repeats);
+  }
+  const domain::ParametricVariety volume(3, {{{mono(-0.1, 0, 0), mono(0.2, 1, 0)},
+                                              {mono(-0.1, 0, 0), mono(0.2, 0, 1)},
+                                              {mono(0.455, 0, 0), mono(0.04, 0, 0, 1)},
+                                              {mono(0.1, 1, 1), mono(-0.05, 0, 0)},
+                                              {mono(-0.1, 1, 1), mono(0.05, 0, 0)},
+                                              {mono(-0.2, 0, 0), mono(0.4, 0, 0, 1)}}});
+  const DVec volumeMax = sampledMax(robot, volume, 41);
+  for (int threads : {1, 2}) {
+    scenario("variety: volume (m = 3), +5%", robot, volume, volumeMax * 1.05, "second_order", threads, repeats);
   }
   return 0;
 }
