@@ -1,5 +1,6 @@
-// Checks of request fields and the response fields shared by the /verify_workspace and /verify_trajectory translations.
-// Each returns false with `error` naming the field, what was expected and what was given. Internal to the ROS layer.
+// Checks of request fields and the response fields shared by the /verify_workspace, /verify_trajectory and
+// /verify_variety translations. Each returns false with `error` naming the field, what was expected and what was
+// given. Internal to the ROS layer.
 #pragma once
 
 #include <array>
@@ -69,7 +70,7 @@ inline bool mode(const std::string& requested, QueryMode& out, std::string& erro
   return true;
 }
 
-/// The options the workspace and trajectory requests (and goals) share, after `mode`: thresholds, alpha,
+/// The options every request (and goal) shares, after `mode`: thresholds, alpha,
 /// time_budget, threads, method, geometry_splitting, stall_levels, geometry_form (min_width differs in unit: the
 /// caller reads it).
 /// @return false with `error` naming the field.
@@ -89,7 +90,24 @@ bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQ
          geometryForm(req.geometry_form, q.geometry_form, error);
 }
 
-/// The fields that the workspace and trajectory responses, action results and the ~verdict message share, from a
+/// Copies the options every request and action goal has (thresholds, mode, alpha, time_budget, min_width, threads,
+/// method, frame_id, geometry_splitting, stall_levels, geometry_form) from `from` to `to`, field for field.
+template <class From, class To>
+void copyOptions(const From& from, To& to) {
+  to.thresholds = from.thresholds;
+  to.mode = from.mode;
+  to.alpha = from.alpha;
+  to.time_budget = from.time_budget;
+  to.min_width = from.min_width;
+  to.threads = from.threads;
+  to.method = from.method;
+  to.frame_id = from.frame_id;
+  to.geometry_splitting = from.geometry_splitting;
+  to.stall_levels = from.stall_levels;
+  to.geometry_form = from.geometry_form;
+}
+
+/// The fields that every response, action result and the ~verdict message share, from a
 /// job's outcome.
 template <class Response, class Outcome>
 void fillCommonResponse(const Outcome& o, Response& res) {

@@ -120,17 +120,7 @@ VerifyVariety::Request toRequest(const VerifyVarietyGoal& g) {
   r.roll = g.roll;
   r.pitch = g.pitch;
   r.yaw = g.yaw;
-  r.thresholds = g.thresholds;
-  r.mode = g.mode;
-  r.alpha = g.alpha;
-  r.time_budget = g.time_budget;
-  r.min_width = g.min_width;
-  r.threads = g.threads;
-  r.method = g.method;
-  r.frame_id = g.frame_id;
-  r.geometry_splitting = g.geometry_splitting;
-  r.stall_levels = g.stall_levels;
-  r.geometry_form = g.geometry_form;
+  fields::copyOptions(g, r);
   return r;
 }
 

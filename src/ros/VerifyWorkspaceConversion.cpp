@@ -189,17 +189,7 @@ VerifyWorkspace::Request toRequest(const VerifyWorkspaceGoal& g) {
   r.pitch_max = g.pitch_max;
   r.yaw_min = g.yaw_min;
   r.yaw_max = g.yaw_max;
-  r.thresholds = g.thresholds;
-  r.mode = g.mode;
-  r.alpha = g.alpha;
-  r.time_budget = g.time_budget;
-  r.min_width = g.min_width;
-  r.threads = g.threads;
-  r.method = g.method;
-  r.frame_id = g.frame_id;
-  r.geometry_splitting = g.geometry_splitting;
-  r.stall_levels = g.stall_levels;
-  r.geometry_form = g.geometry_form;
+  fields::copyOptions(g, r);
   return r;
 }
 
