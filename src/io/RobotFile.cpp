@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -91,9 +92,15 @@ std::string child(const std::string& where, const std::string& key) {
   return !where.empty() && where.back() == ':' ? where + " " + key : where + "." + key;
 }
 
+/// A workspace's optional `frame` (yaml::frame: finite values, a rotation built from roll, pitch, yaw).
+std::optional<domain::RigidTransform> workspaceFrame(const YAML::Node& n, const std::string& where) {
+  if (!n || !n.IsMap() || !n["frame"]) return std::nullopt;
+  return yaml::frame(n["frame"], child(where, "frame"));
+}
+
 domain::Workspace workspace(const YAML::Node& n, const std::string& where) {
   if (!n || !n.IsMap()) fail(where, "expected a map with keys x, y, z, roll, pitch, yaw");
-  yaml::checkKeys(n, where, {"x", "y", "z", "roll", "pitch", "yaw", "region"});
+  yaml::checkKeys(n, where, {"x", "y", "z", "roll", "pitch", "yaw", "region", "frame"});
   static const char* keys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
   std::array<Interval, 6> r;
   for (int i = 0; i < 6; ++i) r[i] = range(n[keys[i]], child(where, keys[i]));
@@ -200,14 +207,18 @@ RobotFile loadRobotFile(const std::string& path) {
     for (const auto& kv : ws) {
       const std::string name = kv.first.as<std::string>();
       out.workspaces.emplace(name, workspace(kv.second, path + ": workspaces." + name));
+      if (auto f = workspaceFrame(kv.second, path + ": workspaces." + name)) out.workspace_frames.emplace(name, *f);
     }
   }
   return out;
 }
 
-domain::Workspace parseWorkspaceFile(const std::string& path) {
+domain::Workspace parseWorkspaceFile(const std::string& path, std::optional<domain::RigidTransform>* frame) {
   const YAML::Node root = yaml::loadFile(path);
-  return workspace(root, path + ":");
+  domain::Workspace w = workspace(root, path + ":");
+  const std::optional<domain::RigidTransform> f = workspaceFrame(root, path + ":");
+  if (frame) *frame = f;
+  return w;
 }
 
 }  // namespace io

@@ -192,21 +192,13 @@ void placeInFrame(const YAML::Node& root, const std::string& name, TrajectoryFil
   const YAML::Node n = root["frame"];
   if (!n) return;
   const std::string where = name + ": frame";
-  if (!n.IsMap()) fail(where, "expected a map {translation: [x, y, z], rpy: [roll, pitch, yaw]}, got " + show(n));
-  checkKeys(n, where, {"translation", "rpy"});
-  const Eigen::Vector3d t = n["translation"] ? vec3(n["translation"], where + ".translation") : Eigen::Vector3d::Zero();
-  const Eigen::Vector3d rpy = n["rpy"] ? vec3(n["rpy"], where + ".rpy") : Eigen::Vector3d::Zero();
+  const domain::RigidTransform t = yaml::frame(n, where);
   try {
-    f.domain = std::make_shared<domain::TransformedDomain>(
-        f.domain, domain::RigidTransform::fromTranslationRpy(t, rpy[0], rpy[1], rpy[2]));
+    f.domain = std::make_shared<domain::TransformedDomain>(f.domain, t);
   } catch (const InvalidArgument& e) {
     fail(where, e.what());
   }
-  std::ostringstream os;
-  os.precision(10);
-  os << ", in frame (translation [" << t[0] << ", " << t[1] << ", " << t[2] << "] m, rpy [" << rpy[0] << ", " << rpy[1]
-     << ", " << rpy[2] << "] rad)";
-  f.description += os.str();
+  f.description += yaml::describeFrame(n);
 }
 
 TrajectoryFile build(const YAML::Node& root, const std::string& name) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -22,6 +23,7 @@
 
 #include "CommandLine.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
@@ -72,7 +74,8 @@ void usage(std::ostream& os) {
         "Input:\n"
         "  --robot FILE           robot file in the format of config/ref6.yaml (required)\n"
         "  --workspace NAME|FILE  a workspace of the robot file's `workspaces:` map, or a workspace YAML file\n"
-        "                         (keys x, y, z, roll, pitch, yaw, optional region); default: the robot file's only\n"
+        "                         (keys x, y, z, roll, pitch, yaw, optional region and frame: {translation, rpy} of\n"
+        "                         the workspace's frame in the base frame); default: the robot file's only\n"
         "                         workspace, else the one named `paper`\n"
         "  --trajectory FILE      verify every pose along a trajectory or motion variety instead of a workspace\n"
         "                         (YAML: waypoints [t, x, y, z, roll, pitch, yaw] with interpolation slerp or\n"
@@ -336,16 +339,26 @@ bool isRegularFile(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
+/// The frame of a named workspace of the robot file (nullopt: the base frame).
+std::optional<domain::RigidTransform> frameOf(const io::RobotFile& robot, const std::string& name) {
+  const auto f = robot.workspace_frames.find(name);
+  return f == robot.workspace_frames.end() ? std::nullopt : std::optional<domain::RigidTransform>(f->second);
+}
+
 /// Resolves --workspace: a name of the robot file, else an existing file; default: the only one, else `paper`.
-domain::Workspace resolveWorkspace(const io::RobotFile& robot, const Arguments& a, std::string& label) {
+/// `frame`: the workspace's frame in the base frame (its `frame` key), or nullopt.
+domain::Workspace resolveWorkspace(const io::RobotFile& robot, const Arguments& a, std::string& label,
+                                   std::optional<domain::RigidTransform>& frame) {
   if (a.workspace.empty()) {
     if (robot.workspaces.size() == 1) {
       label = robot.workspaces.begin()->first;
+      frame = frameOf(robot, label);
       return robot.workspaces.begin()->second;
     }
     const auto paper = robot.workspaces.find("paper");
     if (paper != robot.workspaces.end()) {
       label = paper->first;
+      frame = frameOf(robot, label);
       return paper->second;
     }
     badArgument("--workspace", "required: " + a.robot + " has " +
@@ -355,10 +368,13 @@ domain::Workspace resolveWorkspace(const io::RobotFile& robot, const Arguments& 
   }
   label = a.workspace;
   const auto named = robot.workspaces.find(a.workspace);
-  if (named != robot.workspaces.end()) return named->second;
+  if (named != robot.workspaces.end()) {
+    frame = frameOf(robot, label);
+    return named->second;
+  }
   if (isRegularFile(a.workspace)) {
     try {
-      return io::parseWorkspaceFile(a.workspace);
+      return io::parseWorkspaceFile(a.workspace, &frame);
     } catch (const InvalidArgument& e) {
       badArgument("--workspace", e.what());
     } catch (const std::exception& e) {
@@ -367,6 +383,19 @@ domain::Workspace resolveWorkspace(const io::RobotFile& robot, const Arguments& 
   }
   badArgument("--workspace", "'" + a.workspace + "' is neither a workspace of " + a.robot + " (" +
                                  workspaceNames(robot) + ") nor a readable workspace file");
+}
+
+/// ", in frame (translation [x, y, z] m, rpy [roll, pitch, yaw] rad)", the angles those of the rotation matrix.
+std::string describeFrame(const domain::RigidTransform& t) {
+  const Eigen::Matrix3d& R = t.rotation;
+  const double rpy[3] = {std::atan2(R(2, 1), R(2, 2)), std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0))),
+                         std::atan2(R(1, 0), R(0, 0))};
+  std::ostringstream os;
+  os << ", in frame (translation [" << tools::shortNumber(t.translation.x()) << ", "
+     << tools::shortNumber(t.translation.y()) << ", " << tools::shortNumber(t.translation.z()) << "] m, rpy ["
+     << tools::shortNumber(rpy[0]) << ", " << tools::shortNumber(rpy[1]) << ", " << tools::shortNumber(rpy[2])
+     << "] rad)";
+  return os.str();
 }
 
 /// The run info's summary of the geometry's uncertainty (the largest half-widths, and whether they are uniform).
@@ -389,7 +418,8 @@ void listWorkspaces(const io::RobotFile& robot, const std::string& path) {
             << "\n";
   for (const auto& kv : robot.workspaces) {
     const IVec& b = kv.second.initialBox();
-    std::cout << "  " << kv.first << " (" << kv.second.region().typeName() << "):";
+    std::cout << "  " << kv.first << " (" << kv.second.region().typeName()
+              << (robot.workspace_frames.count(kv.first) ? ", in its own frame" : "") << "):";
     for (int i = 0; i < b.size(); ++i) {
       std::cout << " " << kv.second.variableName(i).substr(0, kv.second.variableName(i).find(' ')) << " ["
                 << tools::shortNumber(b[i].lower()) << ", " << tools::shortNumber(b[i].upper()) << "]";
@@ -545,9 +575,15 @@ int run(int argc, char** argv) {
   io::RunInfo info;
   std::shared_ptr<const domain::Domain> domainPtr;
   if (a.trajectory.empty()) {
-    auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace));
+    std::optional<domain::RigidTransform> frame;
+    auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace, frame));
     info.workspace_region = workspace->region().typeName();
     domainPtr = workspace;
+    if (frame) {
+      // Given in a frame F: verified in the base frame; the variables stay the workspace's own (in F).
+      domainPtr = std::make_shared<domain::TransformedDomain>(workspace, *frame);
+      info.workspace += describeFrame(*frame);
+    }
   } else {
     const io::TrajectoryFile file = loadTrajectory(a.trajectory);
     info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";

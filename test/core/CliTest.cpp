@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/io/ResultWriter.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
@@ -564,6 +566,73 @@ TEST_F(CliTest, MaxErrorBracketsTheSampledMaximum) {
     EXPECT_EQ(y["max_error"]["lower"][k].as<double>(), lower[k]);
     EXPECT_EQ(y["max_error"]["upper"][k].as<double>(), upper[k]);
   }
+}
+
+TEST_F(CliTest, WorkspaceFileInAFrameIsVerifiedInTheBaseFrame) {
+  // The small box of the previous test given in a frame F at translation (0.01, -0.02, 0.08), roll 0.03, pitch
+  // -0.02, yaw 0.5 (z shifted so that the base-frame poses stay in the paper workspace's height).
+  const std::array<double, 12> box = {-0.003, 0.003, -0.003, 0.003, 0.39,   0.395,
+                                      -0.003, 0.003, -0.003, 0.003, -0.003, 0.003};
+  const std::string ws = writeWorkspace("framed.yaml", box);
+  {
+    std::ofstream f(ws, std::ios::app);
+    f << "frame: {translation: [0.01, -0.02, 0.08], rpy: [0.03, -0.02, 0.5]}\n";
+  }
+  const Eigen::Matrix3d F =
+      (Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.02, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  auto toBase = [&F](const DVec& p) {  // the oracle's mapping: t + F p, F R (principal roll, pitch, yaw)
+    const Eigen::Matrix3d R =
+        F * (Eigen::AngleAxisd(p[5], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(p[4], Eigen::Vector3d::UnitY()) *
+             Eigen::AngleAxisd(p[3], Eigen::Vector3d::UnitX()))
+                .toRotationMatrix();
+    const Eigen::Vector3d x = Eigen::Vector3d(0.01, -0.02, 0.08) + F * p.head<3>();
+    DVec b(6);
+    b << x, std::atan2(R(2, 1), R(2, 2)), std::asin(-R(2, 0)), std::atan2(R(1, 0), R(0, 0));
+    return b;
+  };
+  const auto model = ref6Model();
+  std::vector<double> sampled(6, 0.0);
+  for (long idx = 0; idx < 4096; ++idx) {  // 4^6 grid points of the box in F
+    DVec p(6);
+    long rest = idx;
+    for (int i = 0; i < 6; ++i, rest /= 4) p[i] = box[2 * i] + (box[2 * i + 1] - box[2 * i]) * (rest % 4) / 3.0;
+    const DVec f = model.worstErrorAt(toBase(p));
+    for (int k = 0; k < 6; ++k) sampled[k] = std::max(sampled[k], f[k]);
+  }
+  const Json j =
+      runJson({"--robot", kRef6, "--workspace", ws, "--mode", "max-error", "--alpha", "0.05", "--threads", "1"}, 0);
+  EXPECT_NE(j["workspace"].str().find("in frame (translation [0.01, -0.02, 0.08] m"), std::string::npos)
+      << j["workspace"].str();
+  const auto lower = j["max_error"]["lower"].numbers();
+  const auto upper = j["max_error"]["upper"].numbers();
+  ASSERT_EQ(lower.size(), 6u);
+  ASSERT_EQ(upper.size(), 6u);
+  const std::vector<double> unframed = sampledMax(model, box, 4);  // the same box in the base frame
+  bool differs = false;
+  for (int k = 0; k < 6; ++k) {
+    SCOPED_TRACE("component " + std::to_string(k));
+    EXPECT_LE(sampled[k], upper[k] * (1.0 + 1e-12));
+    EXPECT_LE(lower[k], upper[k]);
+    // The argmax is a point of the box in F (the workspace's own variables) that attains lower once mapped.
+    const auto argmax = j["max_error"]["argmax"][k].numbers();
+    expectInside(argmax, box);
+    DVec p(6);
+    for (int i = 0; i < 6; ++i) p[i] = argmax[i];
+    EXPECT_GE(model.worstErrorAt(toBase(p))[k], lower[k] * (1.0 - 1e-9));
+    differs = differs || std::abs(unframed[k] - upper[k]) > 0.1 * upper[k];
+  }
+  EXPECT_TRUE(differs) << "the frame changed nothing";
+
+  // A malformed frame is refused naming the key.
+  {
+    std::ofstream f(path("badframe.yaml"));
+    f << readFile(ws).substr(0, readFile(ws).find("frame:")) << "frame: {rpy: [0.1, 0.2]}\n";
+  }
+  const RunResult bad = run({"--robot", kRef6, "--workspace", path("badframe.yaml"), "--mode", "max-error"});
+  EXPECT_EQ(bad.code, 3);
+  EXPECT_NE(bad.err.find("badframe.yaml: frame.rpy"), std::string::npos) << bad.err;
 }
 
 TEST_F(CliTest, MaxErrorOutOfBudgetExitsUndecidedWithTheParentsBounds) {

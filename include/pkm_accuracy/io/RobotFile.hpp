@@ -21,12 +21,17 @@
 //     type: box | cylinder | sphere | polyhedron
 //     centre: [x, y(, z)]  radius: r  z: [min, max]       # cylinder (z range) / sphere (3-D centre)
 //     normals: [[nx, ny, nz], ...]  offsets: [d, ...]     # polyhedron: n . p <= d (x/y/z give its bounds)
+//   frame:                                                # optional: the workspace is given in a frame F fixed to
+//     translation: [x, y, z]  rpy: [roll, pitch, yaw]     # the base frame at this pose (m, rad; each optional, 0);
+//                                                         # verified exactly in the base frame (TransformedDomain)
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
 
@@ -35,8 +40,10 @@ namespace io {
 
 struct RobotFile {
   model::GoughGeometry geometry;                        ///< validated
-  std::map<std::string, domain::Workspace> workspaces;  ///< named workspaces of the file
-  std::vector<double> anchor_uncertainty_cases;         ///< optional list (m)
+  std::map<std::string, domain::Workspace> workspaces;  ///< named workspaces of the file (each in its own frame)
+  /// The frames of the named workspaces that have a `frame` key (the pose of the workspace's frame in the base frame).
+  std::map<std::string, domain::RigidTransform> workspace_frames;
+  std::vector<double> anchor_uncertainty_cases;  ///< optional list (m)
   /// Top-level keys that neither the robot file nor the node's parameters (README) use, e.g. a misspelt
   /// "tool_point_uncertanty": not errors (a file may carry other tools' keys), but worth a warning.
   std::vector<std::string> unknown_keys;
@@ -48,7 +55,8 @@ RobotFile loadRobotFile(const std::string& path);
 
 /// A workspace from a YAML node with the keys above; `where` prefixes error messages (e.g. "file.yaml:
 /// workspaces.paper").
-domain::Workspace parseWorkspaceFile(const std::string& path);
+/// @param frame if not null: the file's `frame` (the pose of the workspace's frame in the base frame), or nullopt.
+domain::Workspace parseWorkspaceFile(const std::string& path, std::optional<domain::RigidTransform>* frame = nullptr);
 
 }  // namespace io
 }  // namespace pkm_accuracy
