@@ -635,6 +635,33 @@ TEST_F(CliTest, WorkspaceFileInAFrameIsVerifiedInTheBaseFrame) {
   EXPECT_NE(bad.err.find("badframe.yaml: frame.rpy"), std::string::npos) << bad.err;
 }
 
+TEST_F(CliTest, RobotFileWorkspaceInAFrame) {
+  // config/ref6.yaml with `paper` given in a frame shifted by 1 cm in z: listed as such, run in that frame.
+  std::string text = readFile(kRef6);
+  const std::string key = "\n  paper:";
+  const std::size_t at = text.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t eol = text.find('\n', at + 1);
+  text.insert(eol + 1, "    frame: {translation: [0, 0, 0.01]}\n");
+  const std::string robot = path("framed_robot.yaml");
+  std::ofstream(robot) << text;
+  const RunResult list = run({"--robot", robot, "--list-workspaces"});
+  EXPECT_EQ(list.code, 0) << list.err;
+  EXPECT_NE(list.out.find("paper (box, in its own frame)"), std::string::npos) << list.out;
+  const Json j = runJson({"--robot", robot, "--workspace", "paper", "--mode", "max-error", "--alpha", "1.0"}, 0);
+  EXPECT_NE(j["workspace"].str().find("paper, in frame (translation [0, 0, 0.01] m, rpy [0, 0, 0] rad)"),
+            std::string::npos)
+      << j["workspace"].str();
+  // z in F is the file's range; the poses verified are 1 cm higher: the dz bracket holds the oracle's value there.
+  const auto model = ref6Model();
+  const auto argmax = j["max_error"]["argmax"][2].numbers();
+  ASSERT_EQ(argmax.size(), 6u);
+  DVec p(6);
+  for (int i = 0; i < 6; ++i) p[i] = argmax[i];
+  p[2] += 0.01;
+  EXPECT_GE(model.worstErrorAt(p)[2], j["max_error"]["lower"][2].num() * (1.0 - 1e-9));
+}
+
 TEST_F(CliTest, MaxErrorOutOfBudgetExitsUndecidedWithTheParentsBounds) {
   const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.001",
                           "--max-boxes", "20", "--threads", "1"},
