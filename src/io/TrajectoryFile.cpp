@@ -194,11 +194,12 @@ void placeInFrame(const YAML::Node& root, const std::string& name, TrajectoryFil
   const std::string where = name + ": frame";
   const domain::RigidTransform t = yaml::frame(n, where);
   try {
-    f.domain = std::make_shared<domain::TransformedDomain>(f.domain, t);
+    const auto framed = std::make_shared<domain::TransformedDomain>(f.domain, t);
+    f.domain = framed;
+    f.description += ", in " + framed->frameDescription();
   } catch (const InvalidArgument& e) {
     fail(where, e.what());
   }
-  f.description += yaml::describeFrame(n);
 }
 
 TrajectoryFile build(const YAML::Node& root, const std::string& name) {

@@ -83,17 +83,6 @@ domain::RigidTransform frame(const YAML::Node& n, const std::string& where) {
   return domain::RigidTransform::fromTranslationRpy(t, rpy[0], rpy[1], rpy[2]);
 }
 
-std::string describeFrame(const YAML::Node& n) {
-  auto three = [&n](const char* key) {
-    std::ostringstream os;
-    os.precision(10);
-    const Eigen::Vector3d v = n[key] ? vec3(n[key], key) : Eigen::Vector3d::Zero();
-    os << "[" << v[0] << ", " << v[1] << ", " << v[2] << "]";
-    return os.str();
-  };
-  return ", in frame (translation " + three("translation") + " m, rpy " + three("rpy") + " rad)";
-}
-
 std::vector<Eigen::Vector2d> points2(const YAML::Node& n, const std::string& where) {
   if (!n || !n.IsSequence()) fail(where, "expected a list of [x, y] points, got " + show(n));
   std::vector<Eigen::Vector2d> v;

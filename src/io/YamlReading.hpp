@@ -40,8 +40,6 @@ Interval range(const YAML::Node& n, const std::string& where);
 /// A frame F fixed to the robot's base frame, `{translation: [x, y, z], rpy: [roll, pitch, yaw]}` (m, rad; R =
 /// Rz(yaw) Ry(pitch) Rx(roll); each key optional, 0): the pose of F in the base frame.
 domain::RigidTransform frame(const YAML::Node& n, const std::string& where);
-/// ", in frame (translation [x, y, z] m, rpy [roll, pitch, yaw] rad)" for descriptions, from the file's values.
-std::string describeFrame(const YAML::Node& n);
 /// The document of a file. @throws ParseError "<path>: cannot open file" / "<path>: invalid YAML: ...".
 YAML::Node loadFile(const std::string& path);
 

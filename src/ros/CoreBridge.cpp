@@ -155,17 +155,18 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
 
   // The pose at a point of the box variables, for the response: a workspace's variables are its poses in the
   // query's frame; a trajectory's or variety's pose is the midpoint of the verifier's certified enclosure of the
-  // base-frame pose there, or, in another frame, of the domain's own pose in that frame.
+  // base-frame pose there (`basePose`), or, in another frame or where the verifier gives none, of the domain's own
+  // pose (in the query's frame).
   const bool workspace = q.domain == QueryDomain::Workspace;
   const int variables = workspace ? 6 : q.domain == QueryDomain::Trajectory ? 1 : q.variety.parameters;
-  const std::unique_ptr<domain::Domain> inFrame = !workspace && q.has_transform ? inOwnFrame(q) : nullptr;
+  const std::unique_ptr<domain::Domain> own = workspace ? nullptr : inOwnFrame(q);
   const auto poseAt = [&](const DVec& point, const IVec& basePose) {
     std::array<double, 6> out{};
     if (workspace) {
       copy6(point, out);
       return out;
     }
-    const IVec pose = inFrame ? inFrame->poseAt(point) : basePose;
+    const IVec pose = q.has_transform || basePose.size() != 6 ? own->poseAt(point) : basePose;
     for (int k = 0; k < 6 && k < pose.size(); ++k) out[static_cast<std::size_t>(k)] = pose[k].mid();
     return out;
   };
@@ -185,11 +186,10 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
       const auto m = static_cast<std::size_t>(variables);
       out.lower_bound_poses.assign(36, 0.0);
       if (!workspace) out.lower_bound_parameters.assign(6 * m, 0.0);
-      const std::unique_ptr<domain::Domain> own = workspace ? nullptr : toDomain(q);  // base-frame poses
       for (std::size_t k = 0; k < 6 && k < r.max_argmax.size(); ++k) {
         const DVec& p = r.max_argmax[k];
         if (p.size() != variables) continue;
-        const std::array<double, 6> pose = poseAt(p, own ? own->poseAt(p) : IVec());
+        const std::array<double, 6> pose = poseAt(p, IVec());  // (the verifier gives no pose here)
         for (std::size_t i = 0; i < 6; ++i) out.lower_bound_poses[6 * k + i] = pose[i];
         for (std::size_t i = 0; i < m && !workspace; ++i) {
           out.lower_bound_parameters[m * k + i] = p[static_cast<int>(i)];

@@ -14,6 +14,10 @@ namespace pkm_accuracy {
 namespace ros_layer {
 namespace fields {
 
+/// The request fields of the six pose coordinates, and their units.
+constexpr const char* kPoseFields[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+constexpr const char* kPoseUnits[6] = {"m", "m", "m", "rad", "rad", "rad"};
+
 /// A number for messages (10 significant digits).
 std::string num(double x);
 /// "field[i]".

@@ -30,8 +30,8 @@ bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, s
     return false;
   }
   const std::vector<double>* coords[6] = {&req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
-  const char* const names[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
-  const char* const units[6] = {"m", "m", "m", "rad", "rad", "rad"};
+  const char* const* names = fields::kPoseFields;
+  const char* const* units = fields::kPoseUnits;
   for (std::size_t k = 0; k < 6; ++k) {
     if (coords[k]->size() != n) {
       error = std::string(names[k]) + ": expected " + std::to_string(n) + " values (one per waypoint, as times), got " +

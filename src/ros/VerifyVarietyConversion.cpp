@@ -64,8 +64,8 @@ bool fromRequest(const VerifyVariety::Request& req, const std::string& base_fram
   }
   q.variety.parameters = static_cast<int>(req.parameters);
   const std::vector<VarietyTerm>* coords[6] = {&req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
-  const char* const names[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
-  const char* const units[6] = {"m", "m", "m", "rad", "rad", "rad"};
+  const char* const* names = fields::kPoseFields;
+  const char* const* units = fields::kPoseUnits;
   for (std::size_t k = 0; k < 6; ++k) {
     if (!readTerms(*coords[k], names[k], units[k], req.parameters, q.variety.coordinates[k], error)) return false;
   }

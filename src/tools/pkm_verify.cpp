@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -385,19 +384,6 @@ domain::Workspace resolveWorkspace(const io::RobotFile& robot, const Arguments& 
                                  workspaceNames(robot) + ") nor a readable workspace file");
 }
 
-/// ", in frame (translation [x, y, z] m, rpy [roll, pitch, yaw] rad)", the angles those of the rotation matrix.
-std::string describeFrame(const domain::RigidTransform& t) {
-  const Eigen::Matrix3d& R = t.rotation;
-  const double rpy[3] = {std::atan2(R(2, 1), R(2, 2)), std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0))),
-                         std::atan2(R(1, 0), R(0, 0))};
-  std::ostringstream os;
-  os << ", in frame (translation [" << tools::shortNumber(t.translation.x()) << ", "
-     << tools::shortNumber(t.translation.y()) << ", " << tools::shortNumber(t.translation.z()) << "] m, rpy ["
-     << tools::shortNumber(rpy[0]) << ", " << tools::shortNumber(rpy[1]) << ", " << tools::shortNumber(rpy[2])
-     << "] rad)";
-  return os.str();
-}
-
 /// The run info's summary of the geometry's uncertainty (the largest half-widths, and whether they are uniform).
 void describeUncertainty(const model::GoughGeometry& g, io::RunInfo& info) {
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
@@ -581,8 +567,9 @@ int run(int argc, char** argv) {
     domainPtr = workspace;
     if (frame) {
       // Given in a frame F: verified in the base frame; the variables stay the workspace's own (in F).
-      domainPtr = std::make_shared<domain::TransformedDomain>(workspace, *frame);
-      info.workspace += describeFrame(*frame);
+      const auto framed = std::make_shared<domain::TransformedDomain>(workspace, *frame);
+      domainPtr = framed;
+      info.workspace += ", in " + framed->frameDescription();
     }
   } else {
     const io::TrajectoryFile file = loadTrajectory(a.trajectory);

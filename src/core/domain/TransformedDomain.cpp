@@ -193,6 +193,14 @@ void TransformedDomain::poseView(const IVec& box, bool gradient, enclosure::BoxI
   }
 }
 
+std::string TransformedDomain::frameDescription() const {
+  std::ostringstream os;
+  os.precision(10);
+  os << "frame (translation [" << translation_.x() << ", " << translation_.y() << ", " << translation_.z()
+     << "] m, rpy [" << rpy_[0] << ", " << rpy_[1] << ", " << rpy_[2] << "] rad)";
+  return os.str();
+}
+
 IVec TransformedDomain::poseAt(const DVec& t) const {
   IVec p = inner_->poseAt(t);
   const std::array<double, 2> ref = referenceAnglesAt(p);

@@ -80,6 +80,8 @@ class TransformedDomain : public Domain {
   /// The rotation angle about z of the transform when aboutZ() (rad).
   double yawOffset() const { return rpy_[2]; }
   const Eigen::Vector3d& translation() const { return translation_; }
+  /// "frame (translation [x, y, z] m, rpy [roll, pitch, yaw] rad)": the translation and the angles used (for reports).
+  std::string frameDescription() const;
 
  private:
   /// Reference angles (roll, yaw) of the base-frame orientation, in double, for a frame-F orientation (roll, pitch,
