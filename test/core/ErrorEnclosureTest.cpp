@@ -6,6 +6,7 @@
 
 #include <mpfr.h>
 #include <algorithm>
+#include <array>
 #include <iostream>
 
 #include <cmath>
@@ -341,6 +342,162 @@ TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
             << " checks; sum of the bounds / sum of |S| |S| " << sumBound / sumSquare << "\n";
   EXPECT_GT(worstRatio, 0.8);
   EXPECT_LT(sumBound, 0.9 * sumSquare);
+}
+
+TEST(ErrorEnclosure, AffineHessianFormsBoundTheThirdOrderTaylorRestInMpfr) {
+  // What AffineInverseAction::tightenByResidual takes from the model: with C H_il(t0 + s dt) within s L_il + R_il +
+  // s^2 Q_il of its centre C Hc_il (GoughPlatform::preconditionedHessianMagnitude's linear part, remainder and
+  // quadratic part, and its centre output), the Taylor rest
+  //   C (J^-1(t) - J^-1(t0)) - sum_i C D_i(t0) dt_i - (1/2) sum_il C Hc_il dt_i dt_l
+  // is bounded entry by entry by sum_i |C| rad(D_i(t0)) |dt_i| + sum_il (L_il / 6 + R_il / 2 + Q_il / 12) |dt_i dt_l|
+  // (integral form of the remainder). Checked in MPFR at every vertex and random points of boxes of 1/4 ... 1/32 of
+  // every range; the bound must be reached within a factor of 5 somewhere (it is not vacuous).
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const IVec whole = ws.initialBox();
+  std::mt19937_64 rng(41);
+  double worstRatio = 0.0;
+  int checked = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    const IVec box = cornerOrInnerBox(whole, trial, rng);
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::AffineInverseAction act;
+    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    const DMat c = act.preconditioner();
+    std::array<DMat, MatrixHessian::kPairs> mag, lin, quad, rest, centre;
+    ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, c, mag, &lin, &quad, &rest, &centre)) << "trial " << trial;
+    MatrixHessian at;
+    ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(in.centrePose, at, false));
+    DVec t0(6);
+    for (int i = 0; i < 6; ++i) t0[i] = in.centrePose[i].mid();
+    const MpMat j0 = mpInverseJacobian(rf.geometry, t0);
+    for (int s = 0; s < 64 + 16; ++s) {
+      const DVec t = vertexOrRandomPoint(box, s, rng);
+      const MpMat jt = mpInverseJacobian(rf.geometry, t);
+      std::vector<Mp> dt;
+      for (int i = 0; i < 6; ++i) dt.push_back(Mp(t[i]) - Mp(t0[i]));
+      for (int k = 0; k < 6; ++k)
+        for (int l = 0; l < 6; ++l) {
+          Mp r(0.0);
+          double bound = 0.0;
+          for (int q = 0; q < 6; ++q) r = r + Mp(c(k, q)) * (jt[q][l] - j0[q][l]);
+          for (int i = 0; i < 6; ++i) {
+            Mp d(0.0);
+            double rad = 0.0;
+            for (int q = 0; q < 6; ++q) {
+              d = d + Mp(c(k, q)) * Mp(at.first[i](q, l).mid());
+              rad += std::abs(c(k, q)) * at.first[i](q, l).rad();
+            }
+            r = r - d * dt[i];
+            bound += rad * std::abs(t[i] - t0[i]);
+            for (int m = 0; m < 6; ++m) {
+              const int p = MatrixHessian::index(i, m);
+              r = r - Mp(0.5 * centre[p](k, l)) * dt[i] * dt[m];
+              bound += (lin[p](k, l) / 6.0 + rest[p](k, l) / 2.0 + quad[p](k, l) / 12.0) * std::abs(t[i] - t0[i]) *
+                       std::abs(t[m] - t0[m]);
+            }
+          }
+          bound = bound * (1.0 + 1e-10) + 1e-300;
+          ASSERT_TRUE(mpLessEqual(mpAbs(r), bound)) << "trial " << trial << " sample " << s << " entry " << k << ","
+                                                    << l << ": " << toDouble(mpAbs(r)) << " > " << bound;
+          if (bound > 0.0) worstRatio = std::max(worstRatio, toDouble(mpAbs(r)) / bound);
+          ++checked;
+        }
+    }
+  }
+  std::cout << "[ info     ] third-order Taylor rest: largest |rest| / bound " << worstRatio << " over " << checked
+            << " checks\n";
+  EXPECT_GT(worstRatio, 0.2);
+}
+
+TEST(ErrorEnclosure, ResidualRadiusContainsNVInMpfrAndTightensTheForms) {
+  // AffineInverseAction::tightenByResidual: for the forms of N V (V = C, whose columns are J = N C's, and random
+  // interval columns), every tightened radius still bounds |N(t) v - x-hat(tau)| at every vertex and at random points
+  // of boxes of 1/4 ... 1/32 of every range and of half of it (N v in MPFR, v a vertex or a random point
+  // of V's intervals); the centres and coefficients are kept and no radius grows; and on the whole the radii shrink
+  // (the point of it), with the bound reached closely somewhere (a bound that ignored a term of the residual would
+  // show it there).
+  const io::RobotFile rf = test::ref6File();
+  const model::GoughPlatform robot(rf.geometry);
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const IVec whole = ws.initialBox();
+  std::mt19937_64 rng(97);
+  double worstRatio = 0.0, sumOld = 0.0, sumNew = 0.0;
+  int checked = 0, tightened = 0, entries = 0;
+  for (int trial = 0; trial < 17; ++trial) {
+    IVec box = cornerOrInnerBox(whole, trial, rng);
+    if (trial == 16)  // half of every range around the centre (the whole workspace is too large for the expansion)
+      for (int i = 0; i < 6; ++i)
+        box[i] = Interval(whole[i].lower() + 0.25 * (whole[i].upper() - whole[i].lower()),
+                          whole[i].upper() - 0.25 * (whole[i].upper() - whole[i].lower()));
+    enclosure::BoxInput in;
+    ws.poseView(box, true, in);
+    enclosure::AffineInverseAction act;
+    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    const DMat& c = act.preconditioner();
+    for (int which = 0; which < 2; ++which) {
+      // V = C (the columns of J = N C), then 3 random columns, one of them with a radius.
+      const int m = which == 0 ? 6 : 3;
+      IMat v(6, m);
+      std::uniform_real_distribution<double> unit(-1.0, 1.0);
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < m; ++j) {
+          const double x = which == 0 ? c(i, j) : unit(rng),
+                       r = which == 1 && j == 2 ? 1e-3 * std::abs(unit(rng)) : 0.0;
+          v(i, j) = Interval(x - r, x + r);
+        }
+      enclosure::AffineInverseAction::AffineMatrix a, b;
+      ASSERT_TRUE(act.apply(v, a)) << "trial " << trial;
+      b = a;
+      act.tightenByResidual(v, b);
+      for (int k = 0; k < 6; ++k)
+        for (int j = 0; j < m; ++j) {
+          ASSERT_EQ(b.centre(k, j), a.centre(k, j));
+          for (int i = 0; i < 6; ++i) ASSERT_EQ(b.pose[i](k, j), a.pose[i](k, j));
+          ASSERT_LE(b.radius(k, j), a.radius(k, j));
+          sumOld += a.radius(k, j);
+          sumNew += b.radius(k, j);
+          tightened += b.radius(k, j) < a.radius(k, j);
+          ++entries;
+        }
+      for (int s = 0; s < 64 + 16; ++s) {
+        const DVec t = vertexOrRandomPoint(box, s, rng);
+        const MpMat jt = mpInverseJacobian(rf.geometry, t);
+        MpMat cj(6, std::vector<Mp>(6, Mp(0.0)));
+        for (int k = 0; k < 6; ++k)
+          for (int l = 0; l < 6; ++l)
+            for (int q = 0; q < 6; ++q) cj[k][l] = cj[k][l] + Mp(c(k, q)) * jt[q][l];
+        MpMat vp(6, std::vector<Mp>(m, Mp(0.0)));
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < m; ++j)
+            vp[i][j] = Mp(s % 3 == 0   ? v(i, j).lower()
+                          : s % 3 == 1 ? v(i, j).upper()
+                                       : std::uniform_real_distribution<double>(v(i, j).lower(), v(i, j).upper())(rng));
+        const MpMat nv = mpSolve(cj, vp);
+        std::vector<Mp> tau;
+        for (int i = 0; i < 6; ++i) tau.push_back((Mp(t[i]) - Mp(in.centrePose[i].mid())) / Mp(act.deviation(i)));
+        for (int k = 0; k < 6; ++k)
+          for (int j = 0; j < m; ++j) {
+            Mp xhat(b.centre(k, j));
+            for (int i = 0; i < 6; ++i) xhat = xhat + Mp(b.pose[i](k, j)) * tau[i];
+            const Mp d = mpAbs(nv[k][j] - xhat);
+            ASSERT_TRUE(mpLessEqual(d, b.radius(k, j)))
+                << "trial " << trial << " sample " << s << " entry " << k << "," << j << ": " << toDouble(d) << " > "
+                << b.radius(k, j) << " (before: " << a.radius(k, j) << ")";
+            if (b.radius(k, j) > 0.0) worstRatio = std::max(worstRatio, toDouble(d) / b.radius(k, j));
+            ++checked;
+          }
+      }
+    }
+  }
+  std::cout << "[ info     ] residual radius: largest |N v - x-hat| / radius " << worstRatio << " over " << checked
+            << " checks; " << tightened << " of " << entries << " radii tightened, sum of the radii " << sumNew / sumOld
+            << " of before\n";
+  EXPECT_GT(tightened, entries / 2);
+  EXPECT_LT(sumNew, 0.8 * sumOld);
+  EXPECT_GT(worstRatio, 0.1);
 }
 
 TEST(ErrorEnclosure, BoxContainingASingularPoseIsUnbounded) {

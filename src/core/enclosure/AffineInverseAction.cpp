@@ -235,6 +235,10 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // the mean-value form of D_i weights them by int_0^1 s^k ds = 1, 1/2, 1/3 and the Taylor slopes by
   // int_0^1 (1 - s) s^k ds / int_0^1 (1 - s) ds = 1, 1/3, 1/6.
   static thread_local std::array<DMat, MatrixHessian::kPairs> linCH, quadCH;
+  // (tightenByResidual(): the remainder's part |C| R0 and the centre C Hc of the same affine Hessian forms.)
+  static thread_local std::array<DMat, MatrixHessian::kPairs> restCH, centreCH;
+  residualOk_ = false;
+  magNOk_ = magNFailed_ = false;
   const bool poseBox = vars_ == n_ && box.variablesArePose(n_);
   bool midpoint = poseBox;
   for (int i = 0; i < vars_ && midpoint; ++i) {
@@ -249,7 +253,9 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // else the interval Hessian over the box, |C Hm| + |C| Hr, which also gives the first derivatives' ranges.
   const bool affineHessian =
       atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH, midpoint ? &linCH : nullptr,
-                                                         midpoint ? &quadCH : nullptr);
+                                                         midpoint ? &quadCH : nullptr, midpoint ? &restCH : nullptr,
+                                                         midpoint ? &centreCH : nullptr);
+  residualOk_ = affineHessian && midpoint && params_ == 0 && n_ == kMaxDof && vars_ == n_;
   bool boxHessian = false;
   if (atCentreOk && !affineHessian) {
     boxHessian = model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian);
@@ -277,6 +283,10 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       DMat cm, cr, m, r;
       split(atCentre.first[i], m, r);
       product(c_, zero, m, r, cm, cr);
+      if (residualOk_) {
+        rg_[i] = cm;
+        rgr_[i] = cr;
+      }
       DMat half = cr;  // the Taylor slope's radius (below)
       for (int l = 0; l < n_; ++l) {
         const int p = MatrixHessian::index(i, l);
@@ -331,6 +341,16 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
           dr_[i](k, l) = tr[i](k, l);
         }
       }
+    }
+  }
+  if (residualOk_) {
+    for (int p = 0; p < MatrixHessian::kPairs && residualOk_; ++p) {
+      residualOk_ = centreCH[p].rows() == n_ && restCH[p].rows() == n_ && linCH[p].rows() == n_ &&
+                    quadCH[p].rows() == n_ && centreCH[p].allFinite();
+      if (!residualOk_) break;
+      rh_[p] = centreCH[p];
+      // int_0^1 (1 - s) (s L + R + s^2 Q) ds = L / 6 + R / 2 + Q / 12 (the constants' rounding: within upAll's margin)
+      rw_[p] = upAll(M6(linCH[p] / 6.0 + restCH[p] / 2.0 + quadCH[p] / 12.0));
     }
   }
   for (int i = 0; i < vars_; ++i) {
@@ -1207,6 +1227,92 @@ double AffineInverseAction::Combination::lower() const {
   for (int i = 0; i < vars; ++i) r += std::abs(pose[i]);
   for (int p = 0; p < params; ++p) r += std::abs(geometry[p]);
   return interval::rounding::subDown(centre, up(r));
+}
+
+void AffineInverseAction::tightenByResidual(const IMat& v, AffineMatrix& a) const {
+  if (!residualOk_ || a.params != 0 || a.vars != vars_ || a.rows != n_ || v.rows() != n_ || v.cols() != a.cols) return;
+  if (!magNOk_) {
+    if (magNFailed_) return;
+    // |N| over the box from N's own forms: N = N I.
+    static thread_local AffineMatrix nf;
+    IMat eye(n_, n_);
+    for (int j = 0; j < n_; ++j)
+      for (int l = 0; l < n_; ++l) eye(l, j) = Interval(l == j ? 1.0 : 0.0);
+    if (!apply(eye, nf)) {
+      magNFailed_ = true;
+      return;
+    }
+    M6 mag = nf.centre.cwiseAbs() + nf.radius;
+    for (int i = 0; i < vars_; ++i) mag += nf.pose[i].cwiseAbs();
+    magN_ = upAll(mag);
+    if (!magN_.allFinite()) {
+      magNFailed_ = true;
+      return;
+    }
+    magNOk_ = true;
+  }
+  using V6 = Eigen::Matrix<double, kMaxDof, 1>;
+  const M6 e0m = e0m_, e0r = e0r_, absE0 = e0m.cwiseAbs();
+  double dev[kMaxDof];
+  for (int i = 0; i < n_; ++i) dev[i] = devMag_[i];
+  for (int j = 0; j < a.cols; ++j) {
+    V6 vm, vr, xc;
+    for (int l = 0; l < n_; ++l) {
+      split(v(l, j), vm[l], vr[l]);
+      xc[l] = a.centre(l, j);
+    }
+    V6 xm[kMaxDof], axm[kMaxDof];
+    V6 lin = V6::Zero();  // sum_m |X_m|
+    for (int m = 0; m < n_; ++m) {
+      for (int l = 0; l < n_; ++l) xm[m][l] = a.pose[m](l, j);
+      axm[m] = xm[m].cwiseAbs();
+      lin += axm[m];
+    }
+    const V6 axc = xc.cwiseAbs();
+    const V6 ax = axc + lin;  // >= |x-hat| over the box (up to rounding, covered by the margins below)
+    // The residual r(tau) = v - C J^-1(t) x-hat(tau), dt_i = dev_i tau_i, |tau_i| <= 1:
+    //   constant   vm - (I + e0m) xc
+    //   linear     -(I + e0m) X_m - dev_m G_m xc                     (G_m = rg_[m]: C D_m(t0))
+    //   quadratic  -dev_i G_i X_m - dev_m G_m X_i - f dev_i dev_m H_im xc   (pairs i <= m; f = 1/2 on the diagonal)
+    //   cubic      -f dev_i dev_m H_im sum_l X_l tau_l                  (in magnitude)
+    //   radii      vr + e0r |x-hat| + sum_i dev_i rgr_i |x-hat| + sum_{il ordered} dev_i dev_l W_il |x-hat|
+    // Each floating-point product A x is within kGamma |A| |x| of the exact one; `scale` collects those magnitudes.
+    V6 bound = (vm - xc - e0m * xc).cwiseAbs();
+    V6 scale = vm.cwiseAbs() + axc + absE0 * axc;
+    V6 rest = vr + e0r * ax;
+    V6 gxc[kMaxDof];
+    for (int m = 0; m < n_; ++m) {
+      gxc[m] = rg_[m] * xc;
+      bound += (-xm[m] - e0m * xm[m] - dev[m] * gxc[m]).cwiseAbs();
+      const M6 absG = rg_[m].cwiseAbs();
+      scale += axm[m] + absE0 * axm[m] + dev[m] * (absG * axc);
+      rest += dev[m] * (rgr_[m] * ax);
+    }
+    for (int i = 0; i < n_; ++i) {
+      const M6 absGi = rg_[i].cwiseAbs();
+      for (int m = i; m < n_; ++m) {
+        const int p = MatrixHessian::index(i, m);
+        const double f = i == m ? 0.5 : 1.0;
+        const double dd = dev[i] * dev[m];
+        V6 q = -dev[i] * (rg_[i] * xm[m]) - (f * dd) * (rh_[p] * xc);
+        const M6 absH = rh_[p].cwiseAbs();
+        V6 qs = dev[i] * (absGi * axm[m]) + (f * dd) * (absH * axc);
+        if (m != i) {
+          q -= dev[m] * (rg_[m] * xm[i]);
+          qs += dev[m] * (rg_[m].cwiseAbs() * axm[i]);
+        }
+        bound += q.cwiseAbs();
+        scale += qs;
+        rest += (f * dd) * (absH * lin);                      // the cubic terms
+        rest += ((i == m ? 1.0 : 2.0) * dd) * (rw_[p] * ax);  // the third-order rest (ordered pairs)
+      }
+    }
+    // Every term's rounding: at most a few roundings per product and sums of at most ~100 terms, below kGamma.
+    const V6 r = upAll(V6(upAll(bound) + upAll(rest) + 4.0 * kGamma * upAll(scale)));
+    const V6 radius = upAll(V6(magN_ * r));
+    if (!radius.allFinite()) continue;
+    for (int k = 0; k < n_; ++k) a.radius(k, j) = std::min(a.radius(k, j), radius[k]);
+  }
 }
 
 }  // namespace enclosure

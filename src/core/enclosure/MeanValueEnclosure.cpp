@@ -108,6 +108,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       for (int j = 0; j < n; ++j)
         for (int l = 0; l < n; ++l) all(l, j) = Interval(c0(l, j));
       if (!act.apply(all, jac)) return false;
+      act.tightenByResidual(all, jac);
       const GeometryIncrement::Preparation built = increment.prepare(model, box, act, jac);
       if (built == GeometryIncrement::Preparation::Unverified) return false;
       decomposed = built == GeometryIncrement::Preparation::Ready;
@@ -137,7 +138,10 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     IMat cols(n, needed);
     for (int q = 0; q < needed; ++q)
       for (int l = 0; l < n; ++l) cols(l, q) = Interval(c(l, need[q]));
-    if (!decomposed && !act.apply(cols, jac)) return false;  // (decomposed: all the columns, computed above)
+    if (!decomposed) {  // (decomposed: all the columns, computed above)
+      if (!act.apply(cols, jac)) return false;
+      act.tightenByResidual(cols, jac);
+    }
     // (Decomposed: the ranges over every geometry, J0_kj +- DJ_kj, for the signs and the secants below.)
     for (int q = 0; q < needed; ++q)
       for (int k = 0; k < n; ++k)
@@ -293,6 +297,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     IMat batch(n, batchSize);
     for (int q = 0; q < batchSize; ++q) batch.col(q) = columns[batchFirst + q].v;
     if (!act.apply(batch, nv, true)) return false;
+    act.tightenByResidual(batch, nv);
     for (int segment = 0; segment < segments; ++segment) {
       const int k = segmentRow[segment], offset = segmentFirst[segment], m = segmentSize[segment];
       for (int q = offset; q < offset + m; ++q) {

@@ -820,7 +820,9 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
 bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
                                                    std::array<DMat, MatrixHessian::kPairs>& out,
                                                    std::array<DMat, MatrixHessian::kPairs>* linear,
-                                                   std::array<DMat, MatrixHessian::kPairs>* quadratic) const {
+                                                   std::array<DMat, MatrixHessian::kPairs>* quadratic,
+                                                   std::array<DMat, MatrixHessian::kPairs>* rest,
+                                                   std::array<DMat, MatrixHessian::kPairs>* centre) const {
   // The second derivatives of hessian() (same formulas) in first-order affine arithmetic, one symbol per pose
   // coordinate: H_il(t) in Hc + sum_m A_m tau_m +- R entry by entry, so C H_il(t) in C Hc + sum_m (C A_m) tau_m +-
   // |C| R, and |C H_il(t)| <= |C Hc| + sum_m |C A_m| + |C| R (+ the products' rounding, below 1e-13 of |C| times the
@@ -829,14 +831,17 @@ bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
   // (RobotModel::preconditionedHessianMagnitude).
   if (q.size() != 6 || c.rows() != 6 || c.cols() != 6) return false;
   if (quadratic != nullptr && linear == nullptr) return false;
-  if (quadratic != nullptr) return hessianMagnitude<interval::SegmentAffineForm<kMaxDof>>(q, c, out, linear, quadratic);
-  return hessianMagnitude<interval::AffineForm<kMaxDof>>(q, c, out, linear, nullptr);
+  if (quadratic != nullptr)
+    return hessianMagnitude<interval::SegmentAffineForm<kMaxDof>>(q, c, out, linear, quadratic, rest, centre);
+  return hessianMagnitude<interval::AffineForm<kMaxDof>>(q, c, out, linear, nullptr, rest, centre);
 }
 
 template <typename S>
 bool GoughPlatform::hessianMagnitude(const IVec& q, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
                                      std::array<DMat, MatrixHessian::kPairs>* linear,
-                                     std::array<DMat, MatrixHessian::kPairs>* quadratic) const {
+                                     std::array<DMat, MatrixHessian::kPairs>* quadratic,
+                                     std::array<DMat, MatrixHessian::kPairs>* rest,
+                                     std::array<DMat, MatrixHessian::kPairs>* centreOut) const {
   S pose[6];
   RotationOps<S> rm;
   affineRotation<S>(q, pose, rm, true);
@@ -907,6 +912,8 @@ bool GoughPlatform::hessianMagnitude(const IVec& q, const DMat& c, std::array<DM
       (*quadratic)[p] = ((absC * quad).array() * (1.0 + 1e-12) + 1e-300).matrix();
       if (!(*quadratic)[p].allFinite()) return false;
     }
+    if (rest != nullptr) (*rest)[p] = ((absC * radius + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
+    if (centreOut != nullptr) (*centreOut)[p] = c6 * centre;
     out[p] = ((mag + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
     if (!out[p].allFinite()) return false;
   }

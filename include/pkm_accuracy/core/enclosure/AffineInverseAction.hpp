@@ -172,6 +172,20 @@ class AffineInverseAction {
   /// @return false if the verification fails.
   static bool fixedPointBound(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z);
 
+  /// Tightens the radii of `a` = the forms of N V from apply(v, a) through the residual (docs/enclosures.md,
+  /// "Residual radius"): with x-hat(tau) the affine part of a column x = N v (its centre and pose coefficients),
+  ///   x - x-hat = N (v - C J^-1(t) x-hat)   exactly (N = (C J^-1(t))^-1),
+  /// and C J^-1(t) is expanded to second order at the box centre, C J^-1(t0) + sum_i C D_i(t0) dt_i + (1/2) sum_il
+  /// C H_il(t0) dt_i dt_l, with the third-order rest bounded through the model's affine Hessian forms over the box
+  /// (RobotModel::preconditionedHessianMagnitude: its linear part, remainder and quadratic part), so that the
+  /// residual's quadratic terms keep their cancellations (the pose slopes' products against the Hessian). Then
+  /// |x - x-hat| <= |N| |residual| with |N| from N's own forms (one apply(I) per prepare()). Each radius is replaced
+  /// where the new bound is smaller (every other field of `a` is kept: they stay valid). Only after prepare() without
+  /// geometry terms on workspace boxes centred at their midpoint, with the model's affine Hessian; otherwise (and for
+  /// matrices with geometry terms) nothing changes. Rigorous: every product in floating point is covered by kGamma
+  /// times the product of the magnitudes, every non-negative sum is rounded up.
+  void tightenByResidual(const IMat& v, AffineMatrix& a) const;
+
  private:
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
   /// @return false if the verification fails (the Neumann majorant does not converge).
@@ -237,6 +251,15 @@ class AffineInverseAction {
   using JMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxDof, kMaxDof>;
   JSquare joint_, jointInv_;  ///< [[|S|, |C|], [R(dS), R(alpha)]] and ~(I - it)^-1 (apply(): |y - v| and rho jointly)
   bool jointOk_ = false;
+  /// tightenByResidual(): C D_i(t0) (midpoint, radius: its rounding), C H_il(t0) per pair (the affine Hessian forms'
+  /// centre times C, in floating point), W_il >= the third-order rest's weight per ordered pair (L / 6 + rest / 2 +
+  /// Q / 12), and |N| over the box (computed on first use).
+  using M6 = Eigen::Matrix<double, kMaxDof, kMaxDof>;
+  bool residualOk_ = false;
+  std::array<M6, kMaxDof> rg_, rgr_;
+  std::array<M6, MatrixHessian::kPairs> rh_, rw_;
+  mutable bool magNOk_ = false, magNFailed_ = false;
+  mutable M6 magN_;
 };
 
 }  // namespace enclosure

@@ -44,7 +44,9 @@ class GoughPlatform final : public RobotModel {
   bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second = true) const override;
   bool preconditionedHessianMagnitude(const IVec& pose, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
                                       std::array<DMat, MatrixHessian::kPairs>* linear = nullptr,
-                                      std::array<DMat, MatrixHessian::kPairs>* quadratic = nullptr) const override;
+                                      std::array<DMat, MatrixHessian::kPairs>* quadratic = nullptr,
+                                      std::array<DMat, MatrixHessian::kPairs>* rest = nullptr,
+                                      std::array<DMat, MatrixHessian::kPairs>* centre = nullptr) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override;
   std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override;
 
@@ -70,7 +72,9 @@ class GoughPlatform final : public RobotModel {
   template <typename S>
   bool hessianMagnitude(const IVec& pose, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
                         std::array<DMat, MatrixHessian::kPairs>* linear,
-                        std::array<DMat, MatrixHessian::kPairs>* quadratic) const;
+                        std::array<DMat, MatrixHessian::kPairs>* quadratic,
+                        std::array<DMat, MatrixHessian::kPairs>* rest = nullptr,
+                        std::array<DMat, MatrixHessian::kPairs>* centre = nullptr) const;
 
   GoughGeometry geometry_;
   bool uncertain_;

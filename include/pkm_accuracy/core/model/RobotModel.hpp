@@ -93,12 +93,16 @@ class RobotModel {
   /// mean-value and Taylor forms about t0 may weight it by 1/2 and 1/3. With `quadratic` too (then `linear` is
   /// required), R splits into R0 + s^2 R2 on those segments (the nonlinearity vanishes quadratically at t0): out[p]
   /// bounds |C Hc| + |C| R0 and quadratic[p] |C| R2, so |C H_il(t0 + s dt)| <= out[p] + s linear[p] + s^2
-  /// quadratic[p] (weights 1/3 and 1/6 in the mean-value and Taylor forms). @return false if the model does not
-  /// provide them.
+  /// quadratic[p] (weights 1/3 and 1/6 in the mean-value and Taylor forms). With `centre` and `rest`: centre[p] = C Hc
+  /// computed in floating point and rest[p] >= |C| R (R0 with `quadratic`) plus the rounding of every product with C,
+  /// so that |C H_il(t0 + s dt) - centre[p]| <= rest[p] + s linear[p] + s^2 quadratic[p] (the expansion's third-order
+  /// rest, AffineInverseAction::tightenByResidual). @return false if the model does not provide them.
   virtual bool preconditionedHessianMagnitude(const IVec& /*pose*/, const DMat& /*c*/,
                                               std::array<DMat, MatrixHessian::kPairs>& /*out*/,
                                               std::array<DMat, MatrixHessian::kPairs>* /*linear*/ = nullptr,
-                                              std::array<DMat, MatrixHessian::kPairs>* /*quadratic*/ = nullptr) const {
+                                              std::array<DMat, MatrixHessian::kPairs>* /*quadratic*/ = nullptr,
+                                              std::array<DMat, MatrixHessian::kPairs>* /*rest*/ = nullptr,
+                                              std::array<DMat, MatrixHessian::kPairs>* /*centre*/ = nullptr) const {
     return false;
   }
   /// Enclosures, over a pose box and every admissible geometry, of the derivatives of J^-1 with respect to the
