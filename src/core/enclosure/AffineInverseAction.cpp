@@ -286,6 +286,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       if (residualOk_) {
         rg_[i] = cm;
         rgr_[i] = cr;
+        rgAbs_[i] = cm.cwiseAbs();
       }
       DMat half = cr;  // the Taylor slope's radius (below)
       for (int l = 0; l < n_; ++l) {
@@ -349,6 +350,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
                     quadCH[p].rows() == n_ && centreCH[p].allFinite();
       if (!residualOk_) break;
       rh_[p] = centreCH[p];
+      rhAbs_[p] = rh_[p].cwiseAbs();
       // int_0^1 (1 - s) (s L + R + s^2 Q) ds = L / 6 + R / 2 + Q / 12 (the constants' rounding: within upAll's margin)
       rw_[p] = upAll(M6(linCH[p] / 6.0 + restCH[p] / 2.0 + quadCH[p] / 12.0));
     }
@@ -1284,22 +1286,20 @@ void AffineInverseAction::tightenByResidual(const IMat& v, AffineMatrix& a) cons
     for (int m = 0; m < n_; ++m) {
       gxc[m] = rg_[m] * xc;
       bound += (-xm[m] - e0m * xm[m] - dev[m] * gxc[m]).cwiseAbs();
-      const M6 absG = rg_[m].cwiseAbs();
-      scale += axm[m] + absE0 * axm[m] + dev[m] * (absG * axc);
+      scale += axm[m] + absE0 * axm[m] + dev[m] * (rgAbs_[m] * axc);
       rest += dev[m] * (rgr_[m] * ax);
     }
     for (int i = 0; i < n_; ++i) {
-      const M6 absGi = rg_[i].cwiseAbs();
       for (int m = i; m < n_; ++m) {
         const int p = MatrixHessian::index(i, m);
         const double f = i == m ? 0.5 : 1.0;
         const double dd = dev[i] * dev[m];
         V6 q = -dev[i] * (rg_[i] * xm[m]) - (f * dd) * (rh_[p] * xc);
-        const M6 absH = rh_[p].cwiseAbs();
-        V6 qs = dev[i] * (absGi * axm[m]) + (f * dd) * (absH * axc);
+        const M6& absH = rhAbs_[p];
+        V6 qs = dev[i] * (rgAbs_[i] * axm[m]) + (f * dd) * (absH * axc);
         if (m != i) {
           q -= dev[m] * (rg_[m] * xm[i]);
-          qs += dev[m] * (rg_[m].cwiseAbs() * axm[i]);
+          qs += dev[m] * (rgAbs_[m] * axm[i]);
         }
         bound += q.cwiseAbs();
         scale += qs;

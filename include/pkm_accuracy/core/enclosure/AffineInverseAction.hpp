@@ -256,8 +256,8 @@ class AffineInverseAction {
   /// Q / 12), and |N| over the box (computed on first use).
   using M6 = Eigen::Matrix<double, kMaxDof, kMaxDof>;
   bool residualOk_ = false;
-  std::array<M6, kMaxDof> rg_, rgr_;
-  std::array<M6, MatrixHessian::kPairs> rh_, rw_;
+  std::array<M6, kMaxDof> rg_, rgr_, rgAbs_;  ///< (rgAbs_ = |rg_|, for the roundings' magnitudes)
+  std::array<M6, MatrixHessian::kPairs> rh_, rhAbs_, rw_;
   mutable bool magNOk_ = false, magNFailed_ = false;
   mutable M6 magN_;
 };
