@@ -888,6 +888,83 @@ TEST(UncertaintyEnclosure, GeometryIncrementEntryBoundsHoldAndReachTheWorstVerte
   std::cout << "[ info     ] largest |Delta J_kj| / DJ_kj on thin boxes: " << worstThin << "\n";
 }
 
+TEST(UncertaintyEnclosure, PipelineBoundsHoldAgainstDenseSamplesAtWideGeometryRanges) {
+  // The geometry increment and the per-box bound as the default pipeline composes them (the nominal expansion's
+  // forms of J0 = N C tightened by their residual radius, then GeometryIncrement; second_order with the decomposed
+  // geometry form), at +-1 to 3 mm on boxes of 1/16 and 1/8 of the paper workspace, where the residual tightening
+  // lowers most radii: DJ_kj >= |J_kj(t, g) - J_kj(t, g0)| and f_k(t, g) <= upper_k at dense samples of pose x
+  // geometry (box vertices and random points; geometry vertices, random interior points and the worst vertex by the
+  // gradient's signs).
+  const io::RobotFile rf = test::ref6File();
+  const domain::Workspace& ws = rf.workspaces.at("paper");
+  const auto method = enclosure::makeEnclosure("second_order");
+  std::mt19937_64 rng(4811);
+  int increments = 0, bounds = 0, tightenedColumns = 0;
+  double worstIncrement = 0.0, worstBound = 0.0;  // largest sampled / certified
+  for (const double h : {0.001, 0.002, 0.003}) {
+    const Uncertain u(withUncertainty(h));
+    const model::GoughPlatform robot(u.geometry);
+    for (int trial = 0; trial < 8; ++trial) {
+      const IVec box = randomSubBox(ws.initialBox(), trial % 2 ? 1.0 / 8.0 : 1.0 / 16.0, rng);
+      enclosure::BoxInput in;
+      ws.poseView(box, true, in);
+      enclosure::AffineInverseAction act;
+      ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+      const DMat& c = act.preconditioner();
+      IMat all(6, 6);
+      for (int j = 0; j < 6; ++j)
+        for (int l = 0; l < 6; ++l) all(l, j) = Interval(c(l, j));
+      enclosure::AffineInverseAction::AffineMatrix jac;
+      ASSERT_TRUE(act.apply(all, jac));
+      act.tightenByResidual(all, jac);
+      for (int j = 0; j < 6; ++j)
+        tightenedColumns += (jac.radius.col(j).array() < jac.splitRadius.col(j).array()).any();
+      enclosure::GeometryIncrement increment;
+      const bool ready = increment.prepare(robot, in, act, jac) == enclosure::GeometryIncrement::Preparation::Ready;
+      in.decomposeGeometry = true;
+      enclosure::ErrorBounds b;
+      method->enclose(robot, in, b);
+      for (int s = 0; s < 24; ++s) {
+        const DVec q = s % 3 ? randomVertexOf(box, rng) : test::randomPoint(box, rng);
+        const DMat j0 = model::GoughPlatform(u.at(u.nominal)).jacobian(q);
+        const Eigen::MatrixXd grad = u.gradient(u.nominal, q);
+        std::vector<Geometry> geometries = {u.randomVertex(rng), u.randomVertex(rng), u.randomInterior(rng)};
+        for (int k = 0; k < 6; ++k) geometries.push_back(u.vertexBySigns(grad, k, 1.0));
+        for (const Geometry& g : geometries) {
+          const model::GoughPlatform at(u.at(g));
+          if (ready) {
+            const DMat jg = at.jacobian(q);
+            for (int k = 0; k < 6; ++k)
+              for (int j = 0; j < 6; ++j) {
+                const double diff = std::abs(jg(k, j) - j0(k, j)), dj = increment.entryIncrease(k, j);
+                EXPECT_LE(diff, dj * (1.0 + 1e-9) + 1e-12 * std::abs(j0(k, j)))
+                    << "DJ(" << k << "," << j << ") h=" << h << " trial " << trial << " " << where(q);
+                if (dj > 0.0) worstIncrement = std::max(worstIncrement, diff / dj);
+                ++increments;
+              }
+          }
+          if (!b.bounded()) continue;
+          const DVec f = at.worstErrorAt(q);
+          for (int k = 0; k < 6; ++k) {
+            EXPECT_LE(f[k], b.upper[k] * (1.0 + 1e-12))
+                << "f_" << k << " h=" << h << " trial " << trial << " " << where(q);
+            worstBound = std::max(worstBound, f[k] / b.upper[k]);
+            ++bounds;
+          }
+        }
+      }
+    }
+  }
+  std::cout << "[ info     ] wide geometry ranges: " << increments << " increments (largest |Delta J| / DJ "
+            << worstIncrement << "), " << bounds << " bounds (largest f / upper " << worstBound << "), "
+            << tightenedColumns << " columns of J0 tightened\n";
+  EXPECT_GT(increments, 20000);
+  EXPECT_GT(bounds, 3000);
+  EXPECT_GT(tightenedColumns, 48);
+  EXPECT_GT(worstIncrement, 0.3);
+  EXPECT_GT(worstBound, 0.5);
+}
+
 TEST(UncertaintyEnclosure, RowMaskKeepsTheWantedComponentsBitForBit) {
   // BoxInput::rows (the verifier passes the components still undecided): the wanted components' bounds, lower
   // bounds and hints are exactly those of the full enclosure (every column is computed independently), also with

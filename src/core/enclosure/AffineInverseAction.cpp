@@ -893,6 +893,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
     }
   }
   out.radius = upAll(radius);
+  out.splitRadius = out.radius;
   return out.radius.allFinite() && out.centre.allFinite();
 }
 

@@ -140,13 +140,9 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
   double dotCentre[GeometryDerivatives::kCapacity][kMaxDof], dotDev[GeometryDerivatives::kCapacity][kMaxDof];
   for (int j = 0; j < n_; ++j) {
     Form column[kMaxDof], out[GeometryDerivatives::kCapacity];
-    double ssy[kMaxDof], sy[kMaxDof], kw[GeometryDerivatives::kCapacity];
-    for (int l = 0; l < n_; ++l) {
-      column[l] = j0_[l][j];
-      ssy[l] = j0.ssy(l, j);
-      sy[l] = j0.sy(l, j);
-    }
-    columnDots(column, ssy, sy, out);
+    double kw[GeometryDerivatives::kCapacity];
+    for (int l = 0; l < n_; ++l) column[l] = j0_[l][j];
+    columnDots(column, SeparablePart::ofColumn(j0, j), out);
     parameterDots(column, kw);
     for (int e = 0; e < entries_; ++e) {
       a_[row_[e]][j] += entryH_[e] * up(mag(out[e]) + kw[e]);
@@ -294,16 +290,34 @@ void GeometryIncrement::rowBound(int k, Row& out) const {
   for (int p = 0; p < params_; ++p) out.coefficient[p] = 0.0;
 }
 
-void GeometryIncrement::columnDots(const Form* w, const double* ssy, const double* sy, Form* out) const {
-  // w_l = (its affine form without ssy_l in the radius) + x_l, |x_l| <= ssy_l, x = S S y: |dbar_e . x| <= min(sum_l
-  // |dbar_e|_l ssy_l, sum_l |dbar_e^T S|_l sy_l).
+GeometryIncrement::SeparablePart GeometryIncrement::SeparablePart::ofColumn(const AffineInverseAction::AffineMatrix& a,
+                                                                            int j) {
+  SeparablePart part;
+  for (int l = 0; l < a.rows; ++l) {
+    part.ssy[l] = a.ssy(l, j);
+    part.sy[l] = a.sy(l, j);
+    part.splitRadius[l] = a.splitRadius(l, j);
+  }
+  return part;
+}
+
+void GeometryIncrement::columnDots(const Form* w, const SeparablePart& part, Form* out) const {
+  // w_l = (its affine part) + r_l + x_l, |r_l| <= splitRadius_l - ssy_l, x = S S y, |x_l| <= ssy_l: |dbar_e . x| <=
+  // min(sum_l |dbar_e|_l ssy_l, sum_l |dbar_e^T S|_l sy_l). That is one complete bound; dots(w) with w's own radius
+  // (|w_l - its affine part| <= radius_l) is another with the same centre and coefficients: the smaller radius holds.
+  const double* ssy = part.ssy;
   Form reduced[kMaxDof];
   double coefficients[kMaxDof];
+  bool tightened = false;
   for (int l = 0; l < n_; ++l) {
-    if (!(ssy[l] >= 0.0) || !(ssy[l] <= w[l].radius())) return dots(w, out);
+    const double split = part.splitRadius[l];
+    if (!(ssy[l] >= 0.0) || !(ssy[l] <= split)) return dots(w, out);
+    tightened = tightened || w[l].radius() < split;
     for (int m = 0; m < kMaxDof; ++m) coefficients[m] = w[l].coefficient(m);
-    reduced[l] = Form::fromParts(w[l].centre(), coefficients, interval::rounding::subUp(w[l].radius(), ssy[l]));
+    reduced[l] = Form::fromParts(w[l].centre(), coefficients, interval::rounding::subUp(split, ssy[l]));
   }
+  Form whole[GeometryDerivatives::kCapacity];
+  if (tightened) dots(w, whole);
   dots(reduced, out);
   // (Entries innermost: contiguous, vectorisable loops; each entry's sums in the order l = 0, 1, ...)
   double plain[GeometryDerivatives::kCapacity], structured[GeometryDerivatives::kCapacity];
@@ -315,13 +329,15 @@ void GeometryIncrement::columnDots(const Form* w, const double* ssy, const doubl
     const double* ds = dS_[l];
     for (int e = 0; e < entries_; ++e) {
       plain[e] += (std::abs(c[e]) + dev[e] + devK[e]) * ssy[l];
-      structured[e] += ds[e] * sy[l];
+      structured[e] += ds[e] * part.sy[l];
     }
   }
   for (int e = 0; e < entries_; ++e) {
     const double extra = up(std::min(plain[e], structured[e]));
+    const double radius = up(out[e].radius() + extra);
     for (int m = 0; m < kMaxDof; ++m) coefficients[m] = out[e].coefficient(m);
-    out[e] = Form::fromParts(out[e].centre(), coefficients, up(out[e].radius() + extra));
+    out[e] = Form::fromParts(out[e].centre(), coefficients, radius);
+    if (tightened && whole[e].radius() < radius) out[e] = whole[e];
   }
 }
 
@@ -357,10 +373,10 @@ GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::
   return Form::fromParts(a.centre(k, j), coefficients, a.radius(k, j));
 }
 
-bool GeometryIncrement::bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const {
+bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, Row& out) const {
   DMat rowB0 = DMat::Zero(n_, 1);  // >= |Delta M w|_i = |delta r_i . w|
   Form dws[GeometryDerivatives::kCapacity];
-  columnDots(w, ssy, sy, dws);
+  columnDots(w, part, dws);
   // With the parameter terms (GeometryRowDerivative::parameterSlopes), dbar_e = (its pose form) + sum_s kappa_s
   // gamma'_s / 2: dbar_e . w = dws_e + sum_s gamma'_s (kappa_s . w) / 2, so b_p gets terms gamma'_s gamma_p
   // (second order in the geometry), bounded in magnitude: sum_e h_e |J0_{k,row(e)}| parameterDots(w)_e.

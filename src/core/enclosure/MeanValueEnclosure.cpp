@@ -333,13 +333,8 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
           }
           if (!doomed && !easy) {
             GeometryIncrement::Form w[kMaxDof];
-            double ssy[kMaxDof], sy[kMaxDof];
-            for (int l = 0; l < n; ++l) {
-              w[l] = GeometryIncrement::entryForm(nv, l, q);
-              ssy[l] = nv.ssy(l, q);
-              sy[l] = nv.sy(l, q);
-            }
-            if (!increment.bound(k, w, ssy, sy, r)) return false;
+            for (int l = 0; l < n; ++l) w[l] = GeometryIncrement::entryForm(nv, l, q);
+            if (!increment.bound(k, w, GeometryIncrement::SeparablePart::ofColumn(nv, q), r)) return false;
           }
           nominal = comb;
           double err = std::abs(comb.centre) + std::abs(r.linear.centre());

@@ -69,6 +69,11 @@ class AffineInverseAction {
     DMat ll;
     /// The other parts of the remainder's bound in radius: ssy >= |S S y|, cross >= |S L y| + |L S y| (tests).
     DMat ssy, cross;
+    /// A second bound of |x - x-hat| (x = entry (k, j) of N V, x-hat its affine part) in which ssy(k, j) is a
+    /// separable part: |x - x-hat - (S S y)_k| <= splitRadius(k, j) - ssy(k, j) (GeometryIncrement bounds the dot
+    /// products with S S y apart). apply() sets it to radius; tightenByResidual() may lower radius below it, to a
+    /// bound with no such part, and keeps it.
+    DMat splitRadius;
     /// sy(k, j) >= |(S y_j)_k| (S = E0 + P the pose part of E; GeometryIncrement bounds d . (S S y) through it).
     DMat sy;
     /// The pose x geometry terms kept as products tau_i gamma_p (bilinearCoefficients(), upperBilinear()); only from
@@ -180,10 +185,10 @@ class AffineInverseAction {
   /// (RobotModel::preconditionedHessianMagnitude: its linear part, remainder and quadratic part), so that the
   /// residual's quadratic terms keep their cancellations (the pose slopes' products against the Hessian). Then
   /// |x - x-hat| <= |N| |residual| with |N| from N's own forms (one apply(I) per prepare()). Each radius is replaced
-  /// where the new bound is smaller (every other field of `a` is kept: they stay valid). Only after prepare() without
-  /// geometry terms on workspace boxes centred at their midpoint, with the model's affine Hessian; otherwise (and for
-  /// matrices with geometry terms) nothing changes. Rigorous: every product in floating point is covered by kGamma
-  /// times the product of the magnitudes, every non-negative sum is rounded up.
+  /// where the new bound is smaller (every other field of `a` is kept, splitRadius too: they stay valid). Only after
+  /// prepare() without geometry terms on workspace boxes centred at their midpoint, with the model's affine Hessian;
+  /// otherwise (and for matrices with geometry terms) nothing changes. Rigorous: every product in floating point is
+  /// covered by kGamma times the product of the magnitudes, every non-negative sum is rounded up.
   void tightenByResidual(const IMat& v, AffineMatrix& a) const;
 
  private:

@@ -91,12 +91,21 @@ class GeometryIncrement {
   Preparation prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction& act,
                       const AffineInverseAction::AffineMatrix& j0);
 
+  /// The part S S y of a column x = N v of the nominal expansion that columnDots() bounds apart, from its
+  /// AffineInverseAction::AffineMatrix (per row l): ssy >= |S S y|, sy >= |S y|, and splitRadius, a bound of
+  /// |x - x-hat| of which ssy is a separable part (|x - x-hat - S S y| <= splitRadius - ssy). The column's form may
+  /// carry a smaller radius without such a part (the residual radius).
+  struct SeparablePart {
+    double ssy[kMaxDof], sy[kMaxDof], splitRadius[kMaxDof];
+    /// Column j of `a`.
+    static SeparablePart ofColumn(const AffineInverseAction::AffineMatrix& a, int j);
+  };
+
   /// The increase of sum_j u_j J_kj(t, g) over its value at g0, e_k^T Delta J u, bounded over the box and every
   /// geometry, for weights u given by w = J0 u (the affine forms of the column N C u of the nominal expansion, all
-  /// n rows; |u_j| <= e_j for the bounds of f_k), with ssy and sy that column's bounds of |S S y| (a part of w's
-  /// radius) and |S y| (AffineInverseAction::AffineMatrix). Valid after prepare().
+  /// n rows; |u_j| <= e_j for the bounds of f_k), with `part` that column's separable part. Valid after prepare().
   /// @return false if a bound is not finite.
-  bool bound(int k, const Form* w, const double* ssy, const double* sy, Row& out) const;
+  bool bound(int k, const Form* w, const SeparablePart& part, Row& out) const;
 
   /// The cheap bound of the same increase for every weights |u_j| <= e_j: |e_k^T Delta J u| <= sum_j e_j DJ_kj (a
   /// constant; no first-order terms). For columns whose box is split whatever their increment (MeanValueEnclosure).
@@ -122,9 +131,11 @@ class GeometryIncrement {
   /// out[e] >= sum_s |kappa_s . w| / 2 over the box for every entry e (the parameter terms of dbar_e . w, every
   /// gamma').
   void parameterDots(const Form* w, double* out) const;
-  /// The same for a column of the nominal expansion whose radius includes ssy >= |S S y| (componentwise): that part
-  /// enters as |dbar_e^T S| sy (the dot products keep their cancellations) where it is smaller than |dbar_e| ssy.
-  void columnDots(const Form* w, const double* ssy, const double* sy, Form* out) const;
+  /// The same for a column of the nominal expansion (w: its forms with their complete radii) and its separable part:
+  /// each out[e] is the smaller of two complete bounds with the same centre and coefficients, dots(w) and the split
+  /// one, where S S y enters as |dbar_e^T S| sy (the dot products keep their cancellations) where that is smaller
+  /// than |dbar_e| ssy, and the rest of w - w-hat through splitRadius - ssy.
+  void columnDots(const Form* w, const SeparablePart& part, Form* out) const;
 
   /// phi_i(x) >= max over |z| <= x of |sum_i' (delta r_i . J0_{.,i'}) z_i'| over the box and every geometry, for x >=
   /// 0: the coupling of row i through A with the signs of the z_i' chosen jointly (one geometry of leg i for all i'),
