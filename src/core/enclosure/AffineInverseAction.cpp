@@ -12,17 +12,17 @@ namespace enclosure {
 namespace {
 
 // Everything below is computed in double, in midpoint-radius form, with a priori rounding-error bounds valid in
-// any rounding mode: a sum of at most 64 products has relative error below gamma_66 < 1.5e-14, so
-//   |fl(A B) - A B| <= 1e-13 |A| |B|  (computed, also in floating point: the margin covers that),
+// any rounding mode (interval/Rounding.hpp): a sum of at most 64 products has relative error below gamma(66), so
+//   |fl(A B) - A B| <= kGamma |A| |B|  (computed, also in floating point: the margin covers that),
 // and a non-negative quantity evaluated in floating point is bounded by up(its computed value).
 constexpr double kGamma = 1e-13;
-constexpr double kUpFactor = 1.0 + 1e-12, kUpFloor = 1e-300;
-inline double up(double x) { return x * kUpFactor + kUpFloor; }
+static_assert(kGamma >= 4.0 * interval::rounding::gamma(66), "kGamma covers the products and their own rounding");
+using interval::rounding::up;
 
-/// up() of every entry (as one array expression, so that it vectorises: the same operations per entry).
+/// up() of every entry.
 template <typename M>
 M upAll(const M& m) {
-  return (m.array() * kUpFactor + kUpFloor).matrix();
+  return interval::rounding::upEach(m);
 }
 
 /// Midpoint and radius (rounded up) of an interval.

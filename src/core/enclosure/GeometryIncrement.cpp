@@ -12,8 +12,11 @@ namespace pkm_accuracy {
 namespace enclosure {
 namespace {
 
-/// A non-negative quantity computed in double (sums of at most 64 non-negative products): up() bounds the exact one.
-inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
+using interval::rounding::up;  // a non-negative quantity computed in double: up() bounds the exact one
+
+/// The rounding margin of the sums and dot products below (each of at most 64 terms, any rounding mode): the computed
+/// sum is within kSumMargin times the sum of its terms' magnitudes of the exact one.
+constexpr double kSumMargin = interval::rounding::gamma(64);
 
 /// Rounds of GeometryIncrement::tightenFixedPoint.
 constexpr int kPhiRounds = 1;
@@ -93,7 +96,7 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
   }
   // |dbar_e^T S| <= |c_e^T S| + dev_e^T |S| (dbar_e in c_e +- dev_e componentwise over the box), with
   // |c_e^T S| <= |c_e^T E0m| + |c_e|^T E0r + sum_i (|c_e^T D_i,m| + |c_e|^T D_i,r) dev_i; the products c_e^T X in
-  // double are off by less than 1e-14 |c_e|^T |X| (sums of 6 products).
+  // double are off by less than kSumMargin |c_e|^T |X| (sums of 6 products).
   {
     const DMat& magS = act.poseMagnitude();
     if (magS.rows() != n_ || magS.cols() != n_) return Preparation::Unsupported;
@@ -104,14 +107,14 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
     for (int m = 0; m < n_; ++m)
       for (int e = 0; e < entries_; ++e) {
         absC[m][e] = std::abs(dC_[m][e]);
-        dev[m][e] = dDev_[m][e] + dDevK_[m][e] + 1e-14 * absC[m][e];
+        dev[m][e] = dDev_[m][e] + dDevK_[m][e] + kSumMargin * absC[m][e];
       }
     const auto addRow = [&](const DMat& xm, const DMat& xr, double scale) {
       for (int l = 0; l < n_; ++l) {
         double dot[GeometryDerivatives::kCapacity], mag[GeometryDerivatives::kCapacity];
         for (int e = 0; e < entries_; ++e) dot[e] = mag[e] = 0.0;
         for (int m = 0; m < n_; ++m) {
-          const double x = xm(m, l), y = std::abs(x) * 1e-14 + xr(m, l);
+          const double x = xm(m, l), y = std::abs(x) * kSumMargin + xr(m, l);
           const double* c = dC_[m];
           const double* a = absC[m];
           for (int e = 0; e < entries_; ++e) {
@@ -152,7 +155,7 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
     }
   }
   // phi(): per row i and sign pattern eta of its entries (the first one +1: |.| is even), |sum_e eta_e h_e c_ej|
-  // (sums of at most kPhiEntries products, rounding below 1e-14 times the sum of their magnitudes), and D.
+  // (sums of at most kPhiEntries products, rounding below kSumMargin times the sum of their magnitudes), and D.
   for (int i = 0; i < n_; ++i) rowEntries_[i] = 0;
   for (int e = 0; e < entries_; ++e) rowEntry_[row_[e]][rowEntries_[row_[e]]++] = e;
   for (int i = 0; i < n_; ++i) {
@@ -173,7 +176,7 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
           sum += (q > 0 && ((eta >> (q - 1)) & 1)) ? -t : t;
           magnitude += std::abs(t);
         }
-        phiP_[i][eta * n_ + j] = std::abs(sum) + 1e-14 * magnitude;
+        phiP_[i][eta * n_ + j] = std::abs(sum) + kSumMargin * magnitude;
       }
   }
   for (int i = 0; i < n_; ++i)
@@ -221,9 +224,9 @@ void GeometryIncrement::dots(const Form* w, Form* out) const {
   // The products of interval::AffineForm (the square terms' mean to the centre), summed over the components l in
   // one pass over the entries: centre sum_l (c_l wc_l + sum_m a_lm wa_lm / 2), coefficients sum_l (c_l wa_lm +
   // wc_l a_lm), radius sum_l (|c_l| wr_l + |wc_l| r_l + dev_l devw_l - sum_m |a_lm wa_lm| / 2). Each coefficient and
-  // the centre are sums of at most 6 * (2 + 6) = 48 products and sums: their rounding errors are below 48 * 2^-53 /
-  // (1 - 48 * 2^-53) < 1e-14 times the sum of the magnitudes of their terms (err); the radius terms are >= 0 (dev_l
-  // devw_l >= sum_m |a_lm wa_lm|) and up() covers their relative rounding.
+  // the centre are sums of at most 6 * (2 + 6) = 48 products and sums: their rounding errors are below 48 * 2^-52 /
+  // (1 - 48 * 2^-52) < kSumMargin times the sum of the magnitudes of their terms (err); the radius terms are >= 0
+  // (dev_l devw_l >= sum_m |a_lm wa_lm|) and up() covers their relative rounding.
   double c[GeometryDerivatives::kCapacity], a[kMaxDof][GeometryDerivatives::kCapacity];
   double r[GeometryDerivatives::kCapacity], err[GeometryDerivatives::kCapacity];
   for (int e = 0; e < entries_; ++e) c[e] = r[e] = err[e] = 0.0;
@@ -253,18 +256,18 @@ void GeometryIncrement::dots(const Form* w, Form* out) const {
       }
     }
     // (The magnitudes of the terms of the centre and coefficients, sum_m (|c_l| |wa_lm| + |wc_l| |a_lm|) + |c_l wc_l|,
-    // from the sums of the slopes' magnitudes: the same sum but for rounding far below the 1e-14 margin's slack.)
+    // from the sums of the slopes' magnitudes: the same sum but for rounding far below the kSumMargin margin's slack.)
     for (int e = 0; e < entries_; ++e) {
       const double x = dc[e], ax = std::abs(x);
       c[e] += x * wc + 0.5 * half[e];
-      r[e] += ax * wr + awc * dR_[l][e] + (dDev_[l][e] * devw - 0.5 * (1.0 - 1e-14) * halfMag[e]);
+      r[e] += ax * wr + awc * dR_[l][e] + (dDev_[l][e] * devw - 0.5 * (1.0 - kSumMargin) * halfMag[e]);
       err[e] += ax * (awc + waMag) + awc * dSlope_[l][e] + halfMag[e];
     }
   }
   for (int e = 0; e < entries_; ++e) {
     double coefficients[kMaxDof];
     for (int m = 0; m < kMaxDof; ++m) coefficients[m] = a[m][e];
-    out[e] = Form::fromParts(c[e], coefficients, up(r[e] + 1e-14 * err[e]));
+    out[e] = Form::fromParts(c[e], coefficients, up(r[e] + kSumMargin * err[e]));
   }
 }
 
@@ -342,11 +345,11 @@ void GeometryIncrement::columnDots(const Form* w, const SeparablePart& part, For
 }
 
 void GeometryIncrement::parameterDots(const Form* w, double* out) const {
-  // Each dot product kappa_s . w_c in double is off by less than 1e-14 sum_l |kappa_ls| |w_c,l| (6 products).
+  // Each dot product kappa_s . w_c in double is off by less than kSumMargin sum_l |kappa_ls| |w_c,l| (6 products).
   double wc[kMaxDof], wd[kMaxDof];
   for (int l = 0; l < n_; ++l) {
     wc[l] = w[l].centre();
-    wd[l] = w[l].deviation() + 1e-14 * std::abs(wc[l]);
+    wd[l] = w[l].deviation() + kSumMargin * std::abs(wc[l]);
   }
   // sum_s |kappa_s . w| <= sum_s |kappa_s . w_c| + sum_l (sum_s |kappa_ls|) wd_l, the inner sums 2 dDevK_ (>= them).
   double mag[GeometryDerivatives::kCapacity];
@@ -384,7 +387,7 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
   parameterDots(w, kw);
   // b_p = sum over p's entries of J0_{k,row(e)} dws_e, the products of interval::AffineForm (the square terms' mean
   // to the centre) summed per parameter in arrays: every centre and coefficient is a sum of at most 8 products and
-  // sums per entry, at most 6 entries per parameter, so its rounding error is below 1e-14 times the sum of the
+  // sums per entry, at most 6 entries per parameter, so its rounding error is below kSumMargin times the sum of the
   // magnitudes of its terms (berr); the radius terms are >= 0 and up() covers their relative rounding.
   double bc[kMaxGeometryParameters], ba[kMaxDof][kMaxGeometryParameters], br[kMaxGeometryParameters];
   double berr[kMaxGeometryParameters];
@@ -410,7 +413,7 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
     }
     const double c = xc * yc + 0.5 * half;
     bc[q] += c;
-    br[q] += axc * y.radius() + ayc * x.radius() + (sx * sy2 - 0.5 * (1.0 - 1e-14) * halfMag);
+    br[q] += axc * y.radius() + ayc * x.radius() + (sx * sy2 - 0.5 * (1.0 - kSumMargin) * halfMag);
     berr[q] += err + std::abs(xc * yc) + std::abs(c) + 2.0 * halfMag + std::abs(bc[q]);
     rowB0(row_[e], 0) += entryH_[e] * up(mag(y) + kw[e]);
     cross += entryH_[e] * up(magJ0_[k][row_[e]] * kw[e]);
@@ -422,7 +425,8 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
   // First order: max over gamma of sum_q gamma_q h_q b_q = sum_q h_q |b_q| <= sum_q (weight_q b_q + offset_q).
   // The parameters whose b_q has a certain sign have exact secants (weight +-h_q, offset 0): the others (ranges
   // across 0) are also kept as they are (Row::straddling), for the exact maximum at the vertices. The sums of
-  // weight_q b_q (linear, fixed) in arrays too: at most 48 terms each, rounding below 1e-14 times their magnitudes.
+  // weight_q b_q (linear, fixed) in arrays too: at most 48 terms each, rounding below kSumMargin times their
+  // magnitudes.
   double lc[2] = {0.0, 0.0}, la[2][kMaxDof] = {}, lr[2] = {0.0, 0.0}, lerr[2] = {0.0, 0.0};
   out.straddling = 0;
   out.params = params_;
@@ -433,7 +437,7 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
       coefficients[m] = ba[m][q];
       dev += std::abs(ba[m][q]);
     }
-    const double radius = up(br[q] + 1e-14 * berr[q]);
+    const double radius = up(br[q] + kSumMargin * berr[q]);
     dev = up(dev + radius);
     const Interval range(interval::rounding::subDown(bc[q], dev), interval::rounding::addUp(bc[q], dev));
     const interval::AbsSecant secant = interval::absSecant(range, h_[q]);
@@ -458,8 +462,8 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
     magnitude += h_[q] * range.mag();
     out.coefficient[q] = -h_[q] * bc[q];
   }
-  out.linear = Form::fromParts(lc[0], la[0], up(lr[0] + 1e-14 * lerr[0]));
-  out.fixed = Form::fromParts(lc[1], la[1], up(lr[1] + 1e-14 * lerr[1]));
+  out.linear = Form::fromParts(lc[0], la[0], up(lr[0] + kSumMargin * lerr[0]));
+  out.fixed = Form::fromParts(lc[1], la[1], up(lr[1] + kSumMargin * lerr[1]));
   // Second order: sum_i J0_ki sum_i' (delta r_i . J0_{.,i'}) (delta r_i' . y) <= sum_i |J0_ki| phi_i(B), B >= |delta r
   // . y| the fixed point of B <= B0 + phi(B) (B0 >= |delta r . w|; y = w - J0 Delta M y), tightened from the linear
   // one. (Session 27: the signs of the delta r_i' . y chosen jointly for row i, where (A B)_i takes every pair (i, i')

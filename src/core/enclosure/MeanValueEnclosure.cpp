@@ -18,8 +18,7 @@ namespace {
 /// small boxes, bench/uncertainty_probe, the bound stops improving after 2-3).
 constexpr int kFaceIterations = 4;
 
-/// A non-negative quantity computed in double (a few sums): up() bounds the exact one.
-inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
+using interval::rounding::up;  // a non-negative quantity computed in double (a few sums): up() bounds the exact one
 
 /// Second-order bound of f_k from the affine forms of N V (AffineInverseAction). With uncertain geometry parameters
 /// the geometry enters as first-order terms too; with an exact geometry the expansion is in the box variables only
@@ -42,8 +41,8 @@ inline double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
 /// symbol changes sign, so the linear part and each straddle_s(tau) are updated by +-2 x its coefficient (exact
 /// doubling, one rounded addition). Each running value stays within (its centre + the sum of its coefficients'
 /// magnitudes) of the terms counted in `scale`, so after at most 63 updates its rounding error is below
-/// 63 * 2^-53 of those terms; with the per-vertex sum of at most 1 + kMaxGeometryParameters weighted terms the whole
-/// error stays below 1e-13 scale.
+/// 63 * 2^-52 of those terms (any rounding mode); with the per-vertex sum of at most 1 + kMaxGeometryParameters
+/// weighted terms the whole error stays below 1e-13 scale.
 double upperAtVertices(const AffineInverseAction::Combination& nominal, const GeometryIncrement::Row& r, int vars) {
   double scale = std::abs(nominal.centre) + std::abs(r.fixed.centre());
   double slope[kMaxDof];

@@ -903,18 +903,18 @@ bool GoughPlatform::hessianMagnitude(const IVec& q, const DMat& c, std::array<DM
     M6 mag = (c6 * centre).cwiseAbs() + absC * radius;
     // (The rounding margin 1e-13 scale covers every product with C, so it goes to each part.)
     if (linear != nullptr) {
-      (*linear)[p] = ((slopes + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
+      (*linear)[p] = interval::rounding::upEach(M6(slopes + 1e-13 * scale));
       if (!(*linear)[p].allFinite()) return false;
     } else {
       mag += slopes;
     }
     if (quadratic != nullptr) {
-      (*quadratic)[p] = ((absC * quad).array() * (1.0 + 1e-12) + 1e-300).matrix();
+      (*quadratic)[p] = interval::rounding::upEach(M6(absC * quad));
       if (!(*quadratic)[p].allFinite()) return false;
     }
-    if (rest != nullptr) (*rest)[p] = ((absC * radius + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
+    if (rest != nullptr) (*rest)[p] = interval::rounding::upEach(M6(absC * radius + 1e-13 * scale));
     if (centreOut != nullptr) (*centreOut)[p] = c6 * centre;
-    out[p] = ((mag + 1e-13 * scale).array() * (1.0 + 1e-12) + 1e-300).matrix();
+    out[p] = interval::rounding::upEach(M6(mag + 1e-13 * scale));
     if (!out[p].allFinite()) return false;
   }
   return true;

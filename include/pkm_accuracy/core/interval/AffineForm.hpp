@@ -156,7 +156,8 @@ class AffineForm {
 
  private:
   static constexpr double kErr = 1e-15;
-  static double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
+  static_assert(kErr >= rounding::gamma(3), "kErr covers sums of at most 3 products and sums");
+  static double up(double x) { return rounding::up(x); }
   static AffineForm combine(const AffineForm& x, const AffineForm& y, double sign) {
     AffineForm f;
     f.c_ = x.c_ + sign * y.c_;

@@ -8,10 +8,10 @@
 //   a * b: m = fl(am bm),    r = up(|am| br + ar |bm| + ar br + 2^-52 |m|), or, when neither contains 0, the exact
 //          hull: m = fl(am bm) +- fl(ar br) (the sign of am bm), r = up(|am| br + ar |bm| + 2^-52 (|am bm| + ar br +
 //          |m|))
-// where up(x) = x (1 + 1e-12) + 1e-300 bounds the rounding of the radius expression itself (a few operations, each
-// off by at most a relative 2^-52, and the absolute floor covers subnormals). The exact results of the operations
-// on every pair of points of the operands lie in the computed [m - r, m + r]. Non-finite values propagate (m or r
-// infinite or NaN): callers check finite() before use.
+// where up(x) = x (1 + 1e-12) + 1e-300 (rounding::up) bounds the rounding of the radius expression itself (a few
+// operations, each off by at most a relative 2^-52, and the absolute floor covers subnormals). The exact results of the
+// operations on every pair of points of the operands lie in the computed [m - r, m + r]. Non-finite values propagate (m
+// or r infinite or NaN): callers check finite() before use.
 #pragma once
 
 #include <cmath>
@@ -67,8 +67,8 @@ class MidRad {
   MidRad& operator-=(const MidRad& o) { return *this = *this - o; }
 
  private:
-  static constexpr double kUlp = 0x1p-52;
-  static double up(double x) { return x * (1.0 + 1e-12) + 1e-300; }
+  static constexpr double kUlp = rounding::kUnitRoundoff;
+  static double up(double x) { return rounding::up(x); }
   double m_ = 0.0, r_ = 0.0;
 };
 

@@ -72,6 +72,46 @@ inline double divUp(double a, double b) noexcept { return nextUp(a / b); }
 inline double sqrtDown(double a) noexcept { return a <= 0.0 ? 0.0 : nextDown(std::sqrt(a)); }
 inline double sqrtUp(double a) noexcept { return a <= 0.0 ? 0.0 : nextUp(std::sqrt(a)); }
 
+// ---- A priori error bounds: the constants and helpers every midpoint-radius and affine computation uses ----------
+//
+// Any IEEE rounding mode: a correctly rounded operation (+, -, *, /, sqrt, fma) whose exact result x is in the normal
+// range returns fl(x) with |fl(x) - x| < ulp(x) <= 2^-52 |x| (directed modes; round-to-nearest halves it), and a result
+// in the subnormal range is off by less than 2^-1074 (absolute). So u = 2^-52 below, never 2^-53.
+
+/// The unit roundoff of one operation in every rounding mode (relative, normal range).
+constexpr double kUnitRoundoff = 0x1p-52;
+
+/// gamma(n) >= gamma_n = n u / (1 - n u) (Higham, "Accuracy and Stability of Numerical Algorithms", lemma 3.1, which
+/// holds for any mode with u = 2^-52): a sum of n terms, or a dot product of n products, evaluated in floating point in
+/// any order differs from the exact one by at most gamma_n times the sum of the magnitudes of its terms (plus n 2^-1074
+/// for underflow, which the floor of up() covers). 1.01 n u >= gamma_n for n u <= 0.0099; the constant expression is
+/// evaluated in round-to-nearest at compile time, and 1.01 leaves room for its own rounding.
+constexpr double gamma(int n) { return 1.01 * n * kUnitRoundoff; }
+
+/// The relative margin and the absolute floor of up(). kUpRelative covers the rounding of a non-negative expression of
+/// at most kUpOperations operations (gamma(4000) < 9e-13) plus the two operations of up() itself (2u); kUpFloor covers
+/// the absolute underflow errors of those operations (4002 * 2^-1074 < 1e-320 < 1e-300).
+constexpr int kUpOperations = 4000;
+constexpr double kUpRelative = 1e-12;
+constexpr double kUpFloor = 1e-300;
+static_assert(gamma(kUpOperations) + 2.0 * kUnitRoundoff < kUpRelative, "up()'s margin must cover its operations");
+
+/// An upper bound of the exact value of a non-negative quantity whose value computed in floating point (in any order,
+/// any rounding mode, at most kUpOperations operations on non-negative terms or terms whose rounding the caller's
+/// margin covers) is x. Overflow and NaN give +inf: an overflow to +-DBL_MAX (round-down, toward zero) is no bound, and
+/// callers test finiteness to detect unbounded results.
+inline double up(double x) noexcept {
+  const double r = x * (1.0 + kUpRelative) + kUpFloor;
+  return r < std::numeric_limits<double>::max() ? r : std::numeric_limits<double>::infinity();
+}
+
+/// up() of every entry of an Eigen matrix, as one array expression (the same operations per entry, so it vectorises).
+template <typename Matrix>
+Matrix upEach(const Matrix& m) {
+  const auto r = (m.array() * (1.0 + kUpRelative) + kUpFloor).eval();
+  return (r < std::numeric_limits<double>::max()).select(r, std::numeric_limits<double>::infinity()).matrix();
+}
+
 /// RAII: saves the complete floating-point environment (rounding mode and exception flags), switches to
 /// round-to-nearest, and restores the saved environment on destruction. Used around libm calls whose error
 /// bounds are documented for round-to-nearest only. When the mode already is round-to-nearest nothing is saved or
