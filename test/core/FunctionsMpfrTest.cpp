@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "UlpContract.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/Interval.hpp"
 
@@ -436,6 +437,80 @@ TEST(FunctionsMpfr, SinCosContainExactValuesInAllRoundingModes) {
   std::printf("[ libm    ] kLibmUlpBound = %d\n", iv::kLibmUlpBound);
   EXPECT_LE(chk.maxUlp(0), static_cast<double>(iv::kLibmUlpBound));
   EXPECT_LE(chk.maxUlp(1), static_cast<double>(iv::kLibmUlpBound));
+}
+
+// The widening must deliver what kLibmUlpBound claims: a libm value v within k ulps of the exact value y, in ulps
+// of y, stands for every y in S(v, k) = { y : |y - v| <= k ulp(y) } (test/core/UlpContract.hpp), and the enclosure
+// must contain all of S(v, k) inside [-1, 1]. Away from powers of two this is [v - k ulp(v), v + k ulp(v)]; when v
+// lies just below a power of two P in magnitude, S(v, k) reaches into the binade above P, where ulp(y) = 2 ulp(v),
+// up to |v| + 2k ulp(v). The arguments scanned are the doubles around asin(P) / acos(P) (and tiny x for cos ~ 1),
+// where libm's sin / cos values step by at most about one ulp and so land in every ulp just below P; every interval
+// entry point is checked (sinPoint / cosPoint at the lower end and sin / cos of [x_prev, x], cycling the four
+// rounding modes), and each scan must actually reach the binade above P.
+TEST(FunctionsMpfr, EnclosuresCoverTheUlpBoundAcrossPowersOfTwo) {
+  const int k = iv::kLibmUlpBound;
+  pkm_accuracy::test::UlpContract s;
+  struct Scan {
+    const char* what;
+    bool sine;  // the function whose values cross P (the other one is checked too)
+    std::vector<double> xs;
+  };
+  std::vector<Scan> scans;
+  auto around = [](double x0, int n) {
+    std::vector<double> xs;
+    double x = x0;
+    for (int i = 0; i < n; ++i) x = rd::nextDown(x);
+    for (int i = 0; i <= 2 * n; ++i, x = rd::nextUp(x)) xs.push_back(x);
+    return xs;
+  };
+  for (double p : {0.5, 0.25, 0.125, 0x1p-10}) {
+    scans.push_back({"sin near +P", true, around(std::asin(p), 64)});
+    scans.push_back({"sin near -P", true, around(-std::asin(p), 64)});
+  }
+  scans.push_back({"cos near 0.5", false, around(std::acos(0.5), 64)});
+  std::vector<double> tiny;  // cos(x) = 1 - x^2 / 2 steps through the ulps below 1
+  for (int j = 1; j <= 64; ++j) tiny.push_back(std::ldexp(j, -30));
+  scans.push_back({"cos near 1", false, tiny});
+  long checks = 0, failures = 0;  // NOLINT(runtime/int)
+  std::vector<std::string> messages;
+  int mode = 0;
+  for (const Scan& scan : scans) {
+    int reaching = 0;
+    for (std::size_t i = 1; i < scan.xs.size(); ++i) {
+      const double lo = scan.xs[i - 1], hi = scan.xs[i];
+      const Results r = underMode(kModes[mode], Interval(lo, hi));
+      const std::string where =
+          std::string(scan.what) + " (" + kModeNames[mode] + "), [" + hex(lo) + ", " + hex(hi) + "]";
+      mode = (mode + 1) % 4;
+      struct Check {
+        const char* name;
+        double v;
+        Interval r;
+        bool crossing;
+      };
+      const double sLo = iv::detail::libmSin(lo), sHi = iv::detail::libmSin(hi);
+      const double cLo = iv::detail::libmCos(lo), cHi = iv::detail::libmCos(hi);
+      const Check list[6] = {{"sin", sLo, r.s, scan.sine},   {"sin", sHi, r.s, scan.sine},
+                             {"cos", cLo, r.c, !scan.sine},  {"cos", cHi, r.c, !scan.sine},
+                             {"sinPoint", sLo, r.sp, false}, {"cosPoint", cLo, r.cp, false}};
+      for (const Check& c : list) {
+        ASSERT_TRUE(s.set(c.v, k)) << hex(c.v);
+        if (c.crossing && s.reachesLargerBinade()) ++reaching;
+        std::string why;
+        ++checks;
+        if (!s.coveredBy(c.r.lower(), c.r.upper(), -1.0, 1.0, &why)) {
+          ++failures;
+          if (messages.size() < 10)
+            messages.push_back(where + ": " + c.name + " of libm value " + hex(c.v) + " = " + str(c.r) + why);
+        }
+      }
+    }
+    EXPECT_GT(reaching, 0) << scan.what
+                           << ": no libm value whose ulp contract reaches the binade above (scan too coarse)";
+  }
+  for (const std::string& m : messages) ADD_FAILURE() << m;
+  EXPECT_EQ(failures, 0) << "of " << checks;
+  std::printf("[ ulps    ] %ld enclosures checked against the ulp contract near powers of two\n", checks);
 }
 
 // The enclosures must also be tight: away from extrema, a narrow interval's enclosure is at most a few ulps wider
