@@ -439,6 +439,59 @@ TEST(FunctionsMpfr, SinCosContainExactValuesInAllRoundingModes) {
   EXPECT_LE(chk.maxUlp(1), static_cast<double>(iv::kLibmUlpBound));
 }
 
+// rounding::widenByUlps against the definition of its contract. The oracle first: for v = 1 - 4 * 2^-53 and k = 2,
+// S(v, 2) = [1 - 6 * 2^-53, 1] (y = 1 is 4 * 2^-53 = 2 ulp(1) away; below 1 the ulp is 2^-53); for v = 1,
+// S(1, 2) = [1 - 2 * 2^-53, 1 + 2 * 2^-52]. Then, for k = 0 ... 5 and values around every kind of ulp class boundary
+// (powers of two from the subnormals to 2^999, on both sides, both signs, zeros) and random doubles: the bounds
+// contain S(v, k), and they are the k-th neighbours of v except on the side away from zero when S(v, k) reaches the
+// next ulp class, where they are the 2k-th (so away from powers of two the widths are those of k steps).
+TEST(FunctionsMpfr, WidenByUlpsCoversTheUlpContractAndStaysTight) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  pkm_accuracy::test::UlpContract s;
+  ASSERT_TRUE(s.set(1.0 - 0x1p-51, 2));
+  EXPECT_EQ(mpfr_cmp_d(s.inf(), 1.0 - 6 * 0x1p-53), 0);
+  EXPECT_EQ(mpfr_cmp_d(s.sup(), 1.0), 0);
+  EXPECT_TRUE(s.reachesLargerBinade());
+  ASSERT_TRUE(s.set(1.0, 2));
+  EXPECT_EQ(mpfr_cmp_d(s.inf(), 1.0 - 2 * 0x1p-53), 0);
+  EXPECT_EQ(mpfr_cmp_d(s.sup(), 1.0 + 2 * 0x1p-52), 0);
+  EXPECT_FALSE(s.reachesLargerBinade());
+
+  Gen g(4242);
+  std::vector<double> values = {0.0, -0.0};
+  for (int e : {-1074, -1073, -1060, -1023, -1022, -1021, -1020, -1000, -60, -2, -1, 0, 1, 2, 52, 53, 999}) {
+    for (int j = -14; j <= 14; ++j) {
+      const double v = g.stepUlps(std::ldexp(1.0, e), j);
+      values.push_back(v);
+      values.push_back(-v);
+    }
+  }
+  for (int i = 0; i < 20000; ++i) values.push_back(i % 2 ? g.anyFinite() : g.scaled(-1074, 999));
+  long checked = 0, reaching = 0;  // NOLINT(runtime/int)
+  for (int k = 0; k <= 5; ++k) {
+    for (double v : values) {
+      if (!(std::fabs(v) < 0x1p1000)) continue;
+      const rd::Bounds b = rd::widenByUlps(v, k);
+      ASSERT_TRUE(s.set(v, k));
+      std::string why;
+      ASSERT_TRUE(s.coveredBy(b.lower, b.upper, -kInf, kInf, &why)) << "v = " << hex(v) << ", k = " << k << why;
+      const bool reach = s.reachesLargerBinade();
+      const double a = std::fabs(v), toward = g.stepUlps(a, -k), away = g.stepUlps(a, reach ? 2 * k : k);
+      const double lower = std::signbit(v) ? -away : toward, upper = std::signbit(v) ? -toward : away;
+      ASSERT_TRUE(b.lower == lower && b.upper == upper)
+          << "v = " << hex(v) << ", k = " << k << ": [" << hex(b.lower) << ", " << hex(b.upper) << "], expected ["
+          << hex(lower) << ", " << hex(upper) << "]";
+      ++checked;
+      reaching += reach;
+    }
+  }
+  // At least the values 1 ... 2k doubles below (in magnitude) the 12 listed powers from 2^-1021 up, which start an
+  // ulp class, for both signs: 12 * 2 * (2 + 4 + 6 + 8 + 10) (the random values add a few more at most).
+  EXPECT_GE(reaching, 12 * 2 * 30);
+  std::printf("[ ulps    ] widenByUlps: %ld values checked, %ld of them next to a larger ulp class\n", checked,
+              reaching);
+}
+
 // The widening must deliver what kLibmUlpBound claims: a libm value v within k ulps of the exact value y, in ulps
 // of y, stands for every y in S(v, k) = { y : |y - v| <= k ulp(y) } (test/core/UlpContract.hpp), and the enclosure
 // must contain all of S(v, k) inside [-1, 1]. Away from powers of two this is [v - k ulp(v), v + k ulp(v)]; when v

@@ -7,15 +7,16 @@
 
 #include <mpfr.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 namespace pkm_accuracy {
 namespace test {
 
-/// Exact bounds [inf, sup] of S(v, k) for a double v with 2^-1000 <= |v| < 2^1000 and 0 <= k <= 2^20 (so that every
-/// member of S(v, k) is a normal number of the sign of v, in a binade within three of v's; the bounds are dyadic
-/// numbers of at most 80 significant bits, exact at the 128 bits used).
+/// Exact bounds [inf, sup] of S(v, k) for a double v with |v| < 2^1000 (zeros and subnormals included) and
+/// 0 <= k <= 2^20. Every member of S(v, k) lies in v's ulp class or a neighbouring one; the bounds are dyadic numbers
+/// of fewer than 60 significant bits, exact at the 128 bits used.
 class UlpContract {
  public:
   UlpContract() {
@@ -38,38 +39,47 @@ class UlpContract {
   /// Computes the bounds of S(v, k); false if v is outside the supported range.
   bool set(double v, int k) {
     const double a = std::fabs(v);
-    if (!(a >= 0x1p-1000 && a < 0x1p1000) || k < 0 || k > (1 << 20)) return false;
-    const int e = std::ilogb(a);
-    // S(a, k) is the union over the binades B_f = [2^f, 2^(f+1)) of B_f intersected with [a - k 2^(f-52),
-    // a + k 2^(f-52)]; its sup / inf are the largest / smallest ends of the non-empty intersections.
+    if (!(a < 0x1p1000) || k < 0 || k > (1 << 20)) return false;
+    const int e = a < 0x1p-1022 ? -1022 : std::ilogb(a);  // ulp class of a: ulp(a) = 2^(e - 52)
+    // S(a, k) is the union over the ulp classes C_f of C_f intersected with [a - k 2^(f-52), a + k 2^(f-52)], where
+    // C_f = [2^f, 2^(f+1)) for f > -1022 and C_-1022 = (-2^-1021, 2^-1021) (the reals of ulp 2^-1074, of either
+    // sign); its sup / inf are the largest / smallest ends of the non-empty intersections (for S(a, k) with a >= 0,
+    // negative members can only lie in C_-1022).
     bool any = false;
-    for (int f = e - 3; f <= e + 3; ++f) {
+    for (int f = std::max(e - 3, -1022); f <= e + 3; ++f) {
       mpfr_set_ui_2exp(u_, static_cast<unsigned long>(k), f - 52, MPFR_RNDN);  // NOLINT(runtime/int)
       mpfr_set_d(hi_, a, MPFR_RNDN);
       mpfr_add(hi_, hi_, u_, MPFR_RNDN);  // a + k 2^(f-52), exact
       mpfr_set_d(lo_, a, MPFR_RNDN);
-      mpfr_sub(lo_, lo_, u_, MPFR_RNDN);                                                      // a - k 2^(f-52), exact
-      if (mpfr_cmp_ui_2exp(hi_, 1, f) < 0 || mpfr_cmp_ui_2exp(lo_, 1, f + 1) >= 0) continue;  // misses B_f
+      mpfr_sub(lo_, lo_, u_, MPFR_RNDN);  // a - k 2^(f-52), exact
+      const bool first = f == -1022;      // C_f = [bottom, 2^(f+1)), bottom = 2^f or -2^-1021 (open, as an inf)
+      const int bottomSign = first ? -1 : 1;
+      const int bottomExp = first ? -1021 : f;
+      if (mpfr_cmp_si_2exp(hi_, bottomSign, bottomExp) < 0 || mpfr_cmp_ui_2exp(lo_, 1, f + 1) >= 0) continue;
       if (mpfr_cmp_ui_2exp(hi_, 1, f + 1) > 0) mpfr_set_ui_2exp(hi_, 1, f + 1, MPFR_RNDN);
-      if (mpfr_cmp_ui_2exp(lo_, 1, f) < 0) mpfr_set_ui_2exp(lo_, 1, f, MPFR_RNDN);
+      if (mpfr_cmp_si_2exp(lo_, bottomSign, bottomExp) < 0) mpfr_set_si_2exp(lo_, bottomSign, bottomExp, MPFR_RNDN);
       if (!any || mpfr_cmp(hi_, sup_) > 0) mpfr_set(sup_, hi_, MPFR_RNDN);
       if (!any || mpfr_cmp(lo_, inf_) < 0) mpfr_set(inf_, lo_, MPFR_RNDN);
       any = true;
     }
-    if (v < 0.0) {  // S(-a, k) = -S(a, k)
+    negative_ = std::signbit(v);
+    if (negative_) {  // S(-a, k) = -S(a, k)
       mpfr_swap(inf_, sup_);
       mpfr_neg(inf_, inf_, MPFR_RNDN);
       mpfr_neg(sup_, sup_, MPFR_RNDN);
     }
     exponent_ = e;
-    negative_ = v < 0.0;
     return any;
   }
 
-  /// True when S(v, k) reaches the binade above |v| (where the ulp is twice that of v).
+  /// True when S(v, k) reaches the ulp class above that of |v| (where the ulp is twice that of v).
   bool reachesLargerBinade() const {
     return negative_ ? mpfr_cmp_si_2exp(inf_, -1, exponent_ + 1) <= 0 : mpfr_cmp_ui_2exp(sup_, 1, exponent_ + 1) >= 0;
   }
+
+  /// The bounds (exact).
+  const mpfr_t& inf() const { return inf_; }
+  const mpfr_t& sup() const { return sup_; }
 
   /// True when [lower, upper] contains S(v, k) intersected with [rangeLo, rangeHi] (the closure of the function's
   /// range as bounded by the code). Exact comparisons.
