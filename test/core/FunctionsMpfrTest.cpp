@@ -132,7 +132,7 @@ Results underMode(int mode, const Interval& a) {
 
 class SinCosChecker {
  public:
-  SinCosChecker() : x_(64), s_(kPrec), c_(kPrec), diff_(kPrec), q_(2200), piHalf_(2200) {
+  SinCosChecker() : x_(64), s_(kPrec), c_(kPrec), diff_(kPrec), diff2_(kPrec), q_(2200), piHalf_(2200) {
     mpz_init(kLo_);
     mpz_init(kHi_);
     mpz_init(k_);
@@ -236,7 +236,9 @@ class SinCosChecker {
   // |v - f(x)| / ulp(f(x)) with the double ulp of the exact value (subnormal range: 2^-1074), for the evaluation
   // used by the implementation (slots 0/1: sin/cos, all arguments; slots 6/7: only |x| >= 2^26, the sinl/cosl
   // path) and for glibc's double sin/cos (slots 2/3: |x| < 2^26, slots 4/5: |x| >= 2^26). Round-to-nearest is in
-  // force here.
+  // force here. The figure is an upper bound of the error in the unit of rounding::widenByUlps: with y in
+  // [down, up], |v - y| <= max(v - down, up - v) (rounded up), and ulp(y) is at least the ulp of the bracket end
+  // nearer zero.
   void measureLibm(double x) {
     const double us = iv::detail::libmSin(x), uc = iv::detail::libmCos(x);
     update(0, us, s_, x);
@@ -250,15 +252,20 @@ class SinCosChecker {
     update(huge ? 5 : 3, std::cos(x), c_, x);
   }
   void update(int i, double v, const Bracket& exact, double x) {
-    if (mpfr_zero_p(exact.down.v) && mpfr_zero_p(exact.up.v)) return;      // exact zero (x = 0): nothing to measure
-    const mpfr_exp_t e = mpfr_get_exp(exact.down.v);                       // |y| in [2^(e-1), 2^e)
-    const long ulpExp = std::max<long>(static_cast<long>(e) - 53, -1074);  // NOLINT(runtime/int)
+    if (mpfr_zero_p(exact.down.v) && mpfr_zero_p(exact.up.v)) return;  // exact zero (x = 0): nothing to measure
+    long e = -2000;  // NOLINT(runtime/int)  |y| >= 2^(e-1) (an end at zero: no lower bound)
+    if (!mpfr_zero_p(exact.down.v) && !mpfr_zero_p(exact.up.v))
+      e = std::min(mpfr_get_exp(exact.down.v), mpfr_get_exp(exact.up.v));
+    const long ulpExp = std::max<long>(e - 53, -1074);  // NOLINT(runtime/int)
     mpfr_set_d(diff_.v, v, MPFR_RNDN);
-    mpfr_sub(diff_.v, diff_.v, exact.down.v, MPFR_RNDN);
-    const double absErr = std::fabs(mpfr_get_d(diff_.v, MPFR_RNDU));
+    mpfr_sub(diff_.v, diff_.v, exact.down.v, MPFR_RNDU);  // v - down
+    mpfr_set_d(diff2_.v, v, MPFR_RNDN);
+    mpfr_sub(diff2_.v, exact.up.v, diff2_.v, MPFR_RNDU);  // up - v
+    mpfr_max(diff_.v, diff_.v, diff2_.v, MPFR_RNDU);      // >= |v - y|
+    const double absErr = mpfr_get_d(diff_.v, MPFR_RNDU);
     if (e < -50) maxAbsSmall_[i] = std::max(maxAbsSmall_[i], absErr);  // |f(x)| < 2^-51
-    mpfr_mul_2si(diff_.v, diff_.v, -ulpExp, MPFR_RNDN);
-    const double err = std::fabs(mpfr_get_d(diff_.v, MPFR_RNDU));
+    mpfr_mul_2si(diff_.v, diff_.v, -ulpExp, MPFR_RNDU);
+    const double err = mpfr_get_d(diff_.v, MPFR_RNDU);
     if (err > maxUlp_[i]) {
       maxUlp_[i] = err;
       argMax_[i] = x;
@@ -268,7 +275,7 @@ class SinCosChecker {
 
   Mp x_;
   Bracket s_, c_;
-  Mp diff_, q_, piHalf_;
+  Mp diff_, diff2_, q_, piHalf_;
   mpz_t kLo_, kHi_, k_;
   double maxUlp_[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   double argMax_[8] = {0, 0, 0, 0, 0, 0, 0, 0};

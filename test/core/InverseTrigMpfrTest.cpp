@@ -101,15 +101,21 @@ struct Bracket {
   bool within(const Interval& r) const {
     return !r.isEmpty() && mpfr_cmp_d(down.v, r.lower()) >= 0 && mpfr_cmp_d(up.v, r.upper()) <= 0;
   }
-  /// |v - exact| in ulps of the exact value (binade of the exact value; subnormal ulp below DBL_MIN).
+  /// |v - exact| in ulps of the exact value (binade of the exact value; subnormal ulp below DBL_MIN), rounded up: the
+  /// exact y lies in [down, up], so |v - y| <= max(v - down, up - v), and ulp(y) is at least the ulp of the end
+  /// nearer zero.
   double ulpError(double v) const {
     if (mpfr_zero_p(down.v) && mpfr_zero_p(up.v)) return v == 0.0 ? 0.0 : kInf;
-    Mp diff, ulp;
-    mpfr_sub_d(diff.v, down.v, v, MPFR_RNDN);
-    mpfr_abs(diff.v, diff.v, MPFR_RNDN);
-    const long e = std::max<long>(mpfr_get_exp(down.v) - 53, -1074);
-    mpfr_set_ui_2exp(ulp.v, 1, e, MPFR_RNDN);
-    mpfr_div(diff.v, diff.v, ulp.v, MPFR_RNDN);
+    Mp diff, diff2;
+    mpfr_set_d(diff.v, v, MPFR_RNDN);
+    mpfr_sub(diff.v, diff.v, down.v, MPFR_RNDU);  // v - down
+    mpfr_set_d(diff2.v, v, MPFR_RNDN);
+    mpfr_sub(diff2.v, up.v, diff2.v, MPFR_RNDU);  // up - v
+    mpfr_max(diff.v, diff.v, diff2.v, MPFR_RNDU);
+    long e = -1074;  // NOLINT(runtime/int)
+    if (!mpfr_zero_p(down.v) && !mpfr_zero_p(up.v))
+      e = std::max<long>(std::min(mpfr_get_exp(down.v), mpfr_get_exp(up.v)) - 53, -1074);  // NOLINT(runtime/int)
+    mpfr_mul_2si(diff.v, diff.v, -e, MPFR_RNDU);
     return mpfr_get_d(diff.v, MPFR_RNDU);
   }
   std::string str() const {
