@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "UlpContract.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/Interval.hpp"
 
@@ -131,7 +132,7 @@ Results underMode(int mode, const Interval& a) {
 
 class SinCosChecker {
  public:
-  SinCosChecker() : x_(64), s_(kPrec), c_(kPrec), diff_(kPrec), q_(2200), piHalf_(2200) {
+  SinCosChecker() : x_(64), s_(kPrec), c_(kPrec), diff_(kPrec), diff2_(kPrec), q_(2200), piHalf_(2200) {
     mpz_init(kLo_);
     mpz_init(kHi_);
     mpz_init(k_);
@@ -235,7 +236,9 @@ class SinCosChecker {
   // |v - f(x)| / ulp(f(x)) with the double ulp of the exact value (subnormal range: 2^-1074), for the evaluation
   // used by the implementation (slots 0/1: sin/cos, all arguments; slots 6/7: only |x| >= 2^26, the sinl/cosl
   // path) and for glibc's double sin/cos (slots 2/3: |x| < 2^26, slots 4/5: |x| >= 2^26). Round-to-nearest is in
-  // force here.
+  // force here. The figure is an upper bound of the error in the unit of rounding::widenByUlps: with y in
+  // [down, up], |v - y| <= max(v - down, up - v) (rounded up), and ulp(y) is at least the ulp of the bracket end
+  // nearer zero.
   void measureLibm(double x) {
     const double us = iv::detail::libmSin(x), uc = iv::detail::libmCos(x);
     update(0, us, s_, x);
@@ -249,15 +252,20 @@ class SinCosChecker {
     update(huge ? 5 : 3, std::cos(x), c_, x);
   }
   void update(int i, double v, const Bracket& exact, double x) {
-    if (mpfr_zero_p(exact.down.v) && mpfr_zero_p(exact.up.v)) return;      // exact zero (x = 0): nothing to measure
-    const mpfr_exp_t e = mpfr_get_exp(exact.down.v);                       // |y| in [2^(e-1), 2^e)
-    const long ulpExp = std::max<long>(static_cast<long>(e) - 53, -1074);  // NOLINT(runtime/int)
+    if (mpfr_zero_p(exact.down.v) && mpfr_zero_p(exact.up.v)) return;  // exact zero (x = 0): nothing to measure
+    long e = -2000;  // NOLINT(runtime/int)  |y| >= 2^(e-1) (an end at zero: no lower bound)
+    if (!mpfr_zero_p(exact.down.v) && !mpfr_zero_p(exact.up.v))
+      e = std::min(mpfr_get_exp(exact.down.v), mpfr_get_exp(exact.up.v));
+    const long ulpExp = std::max<long>(e - 53, -1074);  // NOLINT(runtime/int)
     mpfr_set_d(diff_.v, v, MPFR_RNDN);
-    mpfr_sub(diff_.v, diff_.v, exact.down.v, MPFR_RNDN);
-    const double absErr = std::fabs(mpfr_get_d(diff_.v, MPFR_RNDU));
+    mpfr_sub(diff_.v, diff_.v, exact.down.v, MPFR_RNDU);  // v - down
+    mpfr_set_d(diff2_.v, v, MPFR_RNDN);
+    mpfr_sub(diff2_.v, exact.up.v, diff2_.v, MPFR_RNDU);  // up - v
+    mpfr_max(diff_.v, diff_.v, diff2_.v, MPFR_RNDU);      // >= |v - y|
+    const double absErr = mpfr_get_d(diff_.v, MPFR_RNDU);
     if (e < -50) maxAbsSmall_[i] = std::max(maxAbsSmall_[i], absErr);  // |f(x)| < 2^-51
-    mpfr_mul_2si(diff_.v, diff_.v, -ulpExp, MPFR_RNDN);
-    const double err = std::fabs(mpfr_get_d(diff_.v, MPFR_RNDU));
+    mpfr_mul_2si(diff_.v, diff_.v, -ulpExp, MPFR_RNDU);
+    const double err = mpfr_get_d(diff_.v, MPFR_RNDU);
     if (err > maxUlp_[i]) {
       maxUlp_[i] = err;
       argMax_[i] = x;
@@ -267,7 +275,7 @@ class SinCosChecker {
 
   Mp x_;
   Bracket s_, c_;
-  Mp diff_, q_, piHalf_;
+  Mp diff_, diff2_, q_, piHalf_;
   mpz_t kLo_, kHi_, k_;
   double maxUlp_[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   double argMax_[8] = {0, 0, 0, 0, 0, 0, 0, 0};
@@ -436,6 +444,133 @@ TEST(FunctionsMpfr, SinCosContainExactValuesInAllRoundingModes) {
   std::printf("[ libm    ] kLibmUlpBound = %d\n", iv::kLibmUlpBound);
   EXPECT_LE(chk.maxUlp(0), static_cast<double>(iv::kLibmUlpBound));
   EXPECT_LE(chk.maxUlp(1), static_cast<double>(iv::kLibmUlpBound));
+}
+
+// rounding::widenByUlps against the definition of its contract. The oracle first: for v = 1 - 4 * 2^-53 and k = 2,
+// S(v, 2) = [1 - 6 * 2^-53, 1] (y = 1 is 4 * 2^-53 = 2 ulp(1) away; below 1 the ulp is 2^-53); for v = 1,
+// S(1, 2) = [1 - 2 * 2^-53, 1 + 2 * 2^-52]. Then, for k = 0 ... 5 and values around every kind of ulp class boundary
+// (powers of two from the subnormals to 2^999, on both sides, both signs, zeros) and random doubles: the bounds
+// contain S(v, k), and they are the k-th neighbours of v except on the side away from zero when S(v, k) reaches the
+// next ulp class, where they are the 2k-th (so away from powers of two the widths are those of k steps).
+TEST(FunctionsMpfr, WidenByUlpsCoversTheUlpContractAndStaysTight) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  pkm_accuracy::test::UlpContract s;
+  ASSERT_TRUE(s.set(1.0 - 0x1p-51, 2));
+  EXPECT_EQ(mpfr_cmp_d(s.inf(), 1.0 - 6 * 0x1p-53), 0);
+  EXPECT_EQ(mpfr_cmp_d(s.sup(), 1.0), 0);
+  EXPECT_TRUE(s.reachesLargerBinade());
+  ASSERT_TRUE(s.set(1.0, 2));
+  EXPECT_EQ(mpfr_cmp_d(s.inf(), 1.0 - 2 * 0x1p-53), 0);
+  EXPECT_EQ(mpfr_cmp_d(s.sup(), 1.0 + 2 * 0x1p-52), 0);
+  EXPECT_FALSE(s.reachesLargerBinade());
+
+  Gen g(4242);
+  std::vector<double> values = {0.0, -0.0};
+  for (int e : {-1074, -1073, -1060, -1023, -1022, -1021, -1020, -1000, -60, -2, -1, 0, 1, 2, 52, 53, 999}) {
+    for (int j = -14; j <= 14; ++j) {
+      const double v = g.stepUlps(std::ldexp(1.0, e), j);
+      values.push_back(v);
+      values.push_back(-v);
+    }
+  }
+  for (int i = 0; i < 20000; ++i) values.push_back(i % 2 ? g.anyFinite() : g.scaled(-1074, 999));
+  long checked = 0, reaching = 0;  // NOLINT(runtime/int)
+  for (int k = 0; k <= 5; ++k) {
+    for (double v : values) {
+      if (!(std::fabs(v) < 0x1p1000)) continue;
+      const rd::Bounds b = rd::widenByUlps(v, k);
+      ASSERT_TRUE(s.set(v, k));
+      std::string why;
+      ASSERT_TRUE(s.coveredBy(b.lower, b.upper, -kInf, kInf, &why)) << "v = " << hex(v) << ", k = " << k << why;
+      const bool reach = s.reachesLargerBinade();
+      const double a = std::fabs(v), toward = g.stepUlps(a, -k), away = g.stepUlps(a, reach ? 2 * k : k);
+      const double lower = std::signbit(v) ? -away : toward, upper = std::signbit(v) ? -toward : away;
+      ASSERT_TRUE(b.lower == lower && b.upper == upper)
+          << "v = " << hex(v) << ", k = " << k << ": [" << hex(b.lower) << ", " << hex(b.upper) << "], expected ["
+          << hex(lower) << ", " << hex(upper) << "]";
+      ++checked;
+      reaching += reach;
+    }
+  }
+  // At least the values 1 ... 2k doubles below (in magnitude) the 12 listed powers from 2^-1021 up, which start an
+  // ulp class, for both signs: 12 * 2 * (2 + 4 + 6 + 8 + 10) (the random values add a few more at most).
+  EXPECT_GE(reaching, 12 * 2 * 30);
+  std::printf("[ ulps    ] widenByUlps: %ld values checked, %ld of them next to a larger ulp class\n", checked,
+              reaching);
+}
+
+// The widening must deliver what kLibmUlpBound claims: a libm value v within k ulps of the exact value y, in ulps
+// of y, stands for every y in S(v, k) = { y : |y - v| <= k ulp(y) } (test/core/UlpContract.hpp), and the enclosure
+// must contain all of S(v, k) inside [-1, 1]. Away from powers of two this is [v - k ulp(v), v + k ulp(v)]; when v
+// lies just below a power of two P in magnitude, S(v, k) reaches into the binade above P, where ulp(y) = 2 ulp(v),
+// up to |v| + 2k ulp(v). The arguments scanned are the doubles around asin(P) / acos(P) (and tiny x for cos ~ 1),
+// where libm's sin / cos values step by at most about one ulp and so land in every ulp just below P; every interval
+// entry point is checked (sinPoint / cosPoint at the lower end and sin / cos of [x_prev, x], cycling the four
+// rounding modes), and each scan must actually reach the binade above P.
+TEST(FunctionsMpfr, EnclosuresCoverTheUlpBoundAcrossPowersOfTwo) {
+  const int k = iv::kLibmUlpBound;
+  pkm_accuracy::test::UlpContract s;
+  struct Scan {
+    const char* what;
+    bool sine;  // the function whose values cross P (the other one is checked too)
+    std::vector<double> xs;
+  };
+  std::vector<Scan> scans;
+  auto around = [](double x0, int n) {
+    std::vector<double> xs;
+    double x = x0;
+    for (int i = 0; i < n; ++i) x = rd::nextDown(x);
+    for (int i = 0; i <= 2 * n; ++i, x = rd::nextUp(x)) xs.push_back(x);
+    return xs;
+  };
+  for (double p : {0.5, 0.25, 0.125, 0x1p-10}) {
+    scans.push_back({"sin near +P", true, around(std::asin(p), 64)});
+    scans.push_back({"sin near -P", true, around(-std::asin(p), 64)});
+  }
+  scans.push_back({"cos near 0.5", false, around(std::acos(0.5), 64)});
+  std::vector<double> tiny;  // cos(x) = 1 - x^2 / 2 steps through the ulps below 1
+  for (int j = 1; j <= 64; ++j) tiny.push_back(std::ldexp(j, -30));
+  scans.push_back({"cos near 1", false, tiny});
+  long checks = 0, failures = 0;  // NOLINT(runtime/int)
+  std::vector<std::string> messages;
+  int mode = 0;
+  for (const Scan& scan : scans) {
+    int reaching = 0;
+    for (std::size_t i = 1; i < scan.xs.size(); ++i) {
+      const double lo = scan.xs[i - 1], hi = scan.xs[i];
+      const Results r = underMode(kModes[mode], Interval(lo, hi));
+      const std::string where =
+          std::string(scan.what) + " (" + kModeNames[mode] + "), [" + hex(lo) + ", " + hex(hi) + "]";
+      mode = (mode + 1) % 4;
+      struct Check {
+        const char* name;
+        double v;
+        Interval r;
+        bool crossing;
+      };
+      const double sLo = iv::detail::libmSin(lo), sHi = iv::detail::libmSin(hi);
+      const double cLo = iv::detail::libmCos(lo), cHi = iv::detail::libmCos(hi);
+      const Check list[6] = {{"sin", sLo, r.s, scan.sine},   {"sin", sHi, r.s, scan.sine},
+                             {"cos", cLo, r.c, !scan.sine},  {"cos", cHi, r.c, !scan.sine},
+                             {"sinPoint", sLo, r.sp, false}, {"cosPoint", cLo, r.cp, false}};
+      for (const Check& c : list) {
+        ASSERT_TRUE(s.set(c.v, k)) << hex(c.v);
+        if (c.crossing && s.reachesLargerBinade()) ++reaching;
+        std::string why;
+        ++checks;
+        if (!s.coveredBy(c.r.lower(), c.r.upper(), -1.0, 1.0, &why)) {
+          ++failures;
+          if (messages.size() < 10)
+            messages.push_back(where + ": " + c.name + " of libm value " + hex(c.v) + " = " + str(c.r) + why);
+        }
+      }
+    }
+    EXPECT_GT(reaching, 0) << scan.what
+                           << ": no libm value whose ulp contract reaches the binade above (scan too coarse)";
+  }
+  for (const std::string& m : messages) ADD_FAILURE() << m;
+  EXPECT_EQ(failures, 0) << "of " << checks;
+  std::printf("[ ulps    ] %ld enclosures checked against the ulp contract near powers of two\n", checks);
 }
 
 // The enclosures must also be tight: away from extrema, a narrow interval's enclosure is at most a few ulps wider

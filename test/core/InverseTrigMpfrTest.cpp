@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "UlpContract.hpp"
 #include "pkm_accuracy/core/interval/Dual.hpp"
 #include "pkm_accuracy/core/interval/InverseTrig.hpp"
 
@@ -100,15 +101,21 @@ struct Bracket {
   bool within(const Interval& r) const {
     return !r.isEmpty() && mpfr_cmp_d(down.v, r.lower()) >= 0 && mpfr_cmp_d(up.v, r.upper()) <= 0;
   }
-  /// |v - exact| in ulps of the exact value (binade of the exact value; subnormal ulp below DBL_MIN).
+  /// |v - exact| in ulps of the exact value (binade of the exact value; subnormal ulp below DBL_MIN), rounded up: the
+  /// exact y lies in [down, up], so |v - y| <= max(v - down, up - v), and ulp(y) is at least the ulp of the end
+  /// nearer zero.
   double ulpError(double v) const {
     if (mpfr_zero_p(down.v) && mpfr_zero_p(up.v)) return v == 0.0 ? 0.0 : kInf;
-    Mp diff, ulp;
-    mpfr_sub_d(diff.v, down.v, v, MPFR_RNDN);
-    mpfr_abs(diff.v, diff.v, MPFR_RNDN);
-    const long e = std::max<long>(mpfr_get_exp(down.v) - 53, -1074);
-    mpfr_set_ui_2exp(ulp.v, 1, e, MPFR_RNDN);
-    mpfr_div(diff.v, diff.v, ulp.v, MPFR_RNDN);
+    Mp diff, diff2;
+    mpfr_set_d(diff.v, v, MPFR_RNDN);
+    mpfr_sub(diff.v, diff.v, down.v, MPFR_RNDU);  // v - down
+    mpfr_set_d(diff2.v, v, MPFR_RNDN);
+    mpfr_sub(diff2.v, up.v, diff2.v, MPFR_RNDU);  // up - v
+    mpfr_max(diff.v, diff.v, diff2.v, MPFR_RNDU);
+    long e = -1074;  // NOLINT(runtime/int)
+    if (!mpfr_zero_p(down.v) && !mpfr_zero_p(up.v))
+      e = std::max<long>(std::min(mpfr_get_exp(down.v), mpfr_get_exp(up.v)) - 53, -1074);  // NOLINT(runtime/int)
+    mpfr_mul_2si(diff.v, diff.v, -e, MPFR_RNDU);
     return mpfr_get_d(diff.v, MPFR_RNDU);
   }
   std::string str() const {
@@ -366,6 +373,84 @@ TEST(InverseTrigMpfr, IntervalAsinContainsTheExactRange) {
   EXPECT_TRUE(iv::asin(Interval(1.5, 2.0)).isEmpty());
   EXPECT_TRUE(iv::asin(Interval::empty()).isEmpty());
   std::printf("[ figures  ] interval asin: %d intervals checked under 4 rounding modes\n", count);
+}
+
+// ---- the widening covers the ulp bound across powers of two ------------------------------------------------------
+// A libm value v within k = kInverseTrigUlpBound ulps of the exact value y (in ulps of y) stands for every y in
+// S(v, k) = { y : |y - v| <= k ulp(y) } (test/core/UlpContract.hpp); the enclosure must contain S(v, k) inside the
+// clamping range. Just below a power of two P in magnitude, S(v, k) reaches into the binade above P (ulp twice that
+// of v), up to |v| + 2k ulp(v). The scans run over the doubles around sin(P) (asin), tan(P) (atan2(y, 1)) and
+// 1 / tan(P) (atan2(1, x), P = 2), where the libm values step by about one ulp or less and so land in every ulp just
+// below P; the boxes are [t_prev, t] of consecutive scan points, cycling the four rounding modes. Each scan must
+// reach the binade above P.
+TEST(InverseTrigMpfr, EnclosuresCoverTheUlpBoundAcrossPowersOfTwo) {
+  const int k = iv::kInverseTrigUlpBound;
+  pkm_accuracy::test::UlpContract s;
+  auto around = [](double x0, int n) {
+    std::vector<double> xs;
+    double x = x0;
+    for (int i = 0; i < n; ++i) x = rd::nextDown(x);
+    for (int i = 0; i <= 2 * n; ++i, x = rd::nextUp(x)) xs.push_back(x);
+    return xs;
+  };
+  enum class F { kAsin, kAtan2Y, kAtan2X };  // asin(t), atan2(t, 1), atan2(1, t)
+  struct Scan {
+    std::string what;
+    F f;
+    std::vector<double> ts;
+  };
+  std::vector<Scan> scans;
+  for (double p : {1.0, 0.5, 0.25}) {
+    for (double sign : {1.0, -1.0}) {
+      const std::string ps = (sign > 0 ? "+" : "-") + hex(p);
+      scans.push_back({"asin near " + ps, F::kAsin, around(sign * std::sin(p), 64)});
+      scans.push_back({"atan2(y, 1) near " + ps, F::kAtan2Y, around(sign * std::tan(p), 64)});
+    }
+  }
+  scans.push_back({"atan2(1, x) near 2", F::kAtan2X, around(1.0 / std::tan(2.0), 64)});
+  long checks = 0, failures = 0;  // NOLINT(runtime/int)
+  std::vector<std::string> messages;
+  int mode = 0;
+  for (const Scan& scan : scans) {
+    int reaching = 0;
+    for (std::size_t i = 1; i < scan.ts.size(); ++i) {
+      const double a = scan.ts[i - 1], b = scan.ts[i];
+      Interval r;
+      double va, vb, range;
+      if (scan.f == F::kAsin) {
+        r = asinUnder(kModes[mode], Interval(a, b));
+        va = iv::detail::libmAsin(a);
+        vb = iv::detail::libmAsin(b);
+        range = iv::halfPiUpper();
+      } else if (scan.f == F::kAtan2Y) {
+        r = atan2Under(kModes[mode], Interval(a, b), Interval(1.0));
+        va = iv::detail::libmAtan2(a, 1.0);
+        vb = iv::detail::libmAtan2(b, 1.0);
+        range = iv::piUpper();
+      } else {
+        r = atan2Under(kModes[mode], Interval(1.0), Interval(a, b));
+        va = iv::detail::libmAtan2(1.0, a);
+        vb = iv::detail::libmAtan2(1.0, b);
+        range = iv::piUpper();
+      }
+      const std::string where = scan.what + " (mode " + std::to_string(mode) + "), [" + hex(a) + ", " + hex(b) + "]";
+      mode = (mode + 1) % 4;
+      for (double v : {va, vb}) {
+        ASSERT_TRUE(s.set(v, k)) << hex(v);
+        if (s.reachesLargerBinade()) ++reaching;
+        std::string why;
+        ++checks;
+        if (!s.coveredBy(r.lower(), r.upper(), -range, range, &why)) {
+          ++failures;
+          if (messages.size() < 10) messages.push_back(where + ": libm value " + hex(v) + " -> " + str(r) + why);
+        }
+      }
+    }
+    EXPECT_GT(reaching, 0) << scan.what << ": no libm value whose ulp contract reaches the binade above";
+  }
+  for (const std::string& m : messages) ADD_FAILURE() << m;
+  EXPECT_EQ(failures, 0) << "of " << checks;
+  std::printf("[ figures  ] %ld atan2 / asin enclosures checked against the ulp contract near powers of two\n", checks);
 }
 
 // ---- Dual rules -------------------------------------------------------------------------------------------------

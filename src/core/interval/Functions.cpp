@@ -7,17 +7,14 @@ namespace pkm_accuracy {
 namespace interval {
 namespace {
 
-// Widens a libm result (computed in round-to-nearest) by kLibmUlpBound ulps on each side and clamps it to [-1, 1].
-// Stepping k ulps away from v towards the exact value y covers at least k ulps of y (ulps grow with magnitude).
-// NaN (no trustworthy evaluation available) gives [-1, 1].
+// Enclosure of the exact value y of sin / cos whose libm value (round-to-nearest) is v: y is within kLibmUlpBound
+// ulps of v, in ulps of y, so y lies in rounding::widenByUlps(v, kLibmUlpBound) (proof there; near a power of two it
+// steps 2k ulps on the side away from zero); y also lies in [-1, 1], so clamping keeps it. NaN (no trustworthy
+// evaluation available) gives [-1, 1].
 Interval widenLibm(double v) noexcept {
   if (v != v) return Interval::fromBoundsUnchecked(-1.0, 1.0);
-  double lo = v, hi = v;
-  for (int i = 0; i < kLibmUlpBound; ++i) {
-    lo = rounding::nextDown(lo);
-    hi = rounding::nextUp(hi);
-  }
-  return Interval::fromBoundsUnchecked(std::max(lo, -1.0), std::min(hi, 1.0));
+  const rounding::Bounds b = rounding::widenByUlps(v, kLibmUlpBound);
+  return Interval::fromBoundsUnchecked(std::max(b.lower, -1.0), std::min(b.upper, 1.0));
 }
 
 // ---- extremum detection by long-double reduction (|x| <= kReductionLimit) ----------------------------------------

@@ -15,16 +15,9 @@ namespace {
 constexpr double kPiDouble = 3.141592653589793116;      // 0x1.921fb54442d18p+1 < pi
 constexpr double kHalfPiDouble = 1.570796326794896558;  // 0x1.921fb54442d18p+0 < pi / 2
 
-/// [v - k ulps, v + k ulps] with k = kInverseTrigUlpBound (stepping k ulps away from v towards the exact value
-/// covers at least k ulps of the exact value, since ulps grow with the magnitude).
-void widen(double v, double& lo, double& hi) noexcept {
-  lo = v;
-  hi = v;
-  for (int i = 0; i < kInverseTrigUlpBound; ++i) {
-    lo = rounding::nextDown(lo);
-    hi = rounding::nextUp(hi);
-  }
-}
+/// Enclosure of the exact value whose libm value (round-to-nearest) is v: within kInverseTrigUlpBound ulps of v, in
+/// ulps of the exact value (rounding::widenByUlps proves the bounds).
+rounding::Bounds widen(double v) noexcept { return rounding::widenByUlps(v, kInverseTrigUlpBound); }
 
 /// +0 for either zero (the angle of a point on the negative x axis is +pi).
 double positiveZero(double v) noexcept { return v == 0.0 ? 0.0 : v; }
@@ -50,18 +43,17 @@ Interval atan2(const Interval& y, const Interval& x) noexcept {
   rounding::ScopedRoundToNearest rn;
   const double ys[2] = {positiveZero(y.lower()), positiveZero(y.upper())};
   const double xs[2] = {x.lower(), x.upper()};
+  // The exact angle at each corner lies in its widened libm value; the hull of the four encloses the range. (Each
+  // corner is widened: the widened bounds are not monotone in the libm value near powers of two.)
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (double yc : ys) {
     for (double xc : xs) {
-      const double v = detail::libmAtan2(yc, xc);
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
+      const rounding::Bounds b = widen(detail::libmAtan2(yc, xc));
+      lo = std::min(lo, b.lower);
+      hi = std::max(hi, b.upper);
     }
   }
-  double l, h, dummy;
-  widen(lo, l, dummy);
-  widen(hi, dummy, h);
-  return Interval::fromBoundsUnchecked(std::max(l, -pi), std::min(h, pi));
+  return Interval::fromBoundsUnchecked(std::max(lo, -pi), std::min(hi, pi));
 }
 
 Interval asin(const Interval& x) noexcept {
@@ -69,9 +61,8 @@ Interval asin(const Interval& x) noexcept {
   if (d.isEmpty()) return d;
   rounding::ScopedRoundToNearest rn;
   const double half = halfPiUpper();
-  double l, h, dummy;
-  widen(detail::libmAsin(d.lower()), l, dummy);
-  widen(detail::libmAsin(d.upper()), dummy, h);
+  // asin is increasing: its range is [asin(lo), asin(hi)], each exact value in its widened libm value.
+  const double l = widen(detail::libmAsin(d.lower())).lower, h = widen(detail::libmAsin(d.upper())).upper;
   return Interval::fromBoundsUnchecked(std::max(l, -half), std::min(h, half));
 }
 

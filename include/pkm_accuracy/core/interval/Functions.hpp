@@ -2,9 +2,9 @@
 //
 // libm's sin/cos are not correctly rounded and are only specified for round-to-nearest, so they are evaluated in
 // round-to-nearest (under rounding::ScopedRoundToNearest, which restores the caller's environment; for |x| >= 2^26
-// through the long double sinl/cosl, see detail::libmSin) and each endpoint value is widened by kLibmUlpBound ulps
-// (then clamped to [-1, 1]). Extrema inside the interval are added
-// when they may be there, never dropped:
+// through the long double sinl/cosl, see detail::libmSin) and each endpoint value v is widened to
+// rounding::widenByUlps(v, kLibmUlpBound), which contains every real within kLibmUlpBound ulps of v in ulps of that
+// real (then clamped to [-1, 1]). Extrema inside the interval are added when they may be there, never dropped:
 //   * |x| <= 2^30: the extrema phase + k pi are located by a long-double reduction with a proven error margin
 //     (Functions.cpp explains the bound);
 //   * larger |x|, width < 1: a derivative test on point values (sinl/cosl reduce every double accurately);
@@ -19,9 +19,10 @@
 namespace pkm_accuracy {
 namespace interval {
 
-/// Number of ulps by which a libm sin/cos result (detail::libmSin / libmCos in round-to-nearest) is widened on each
-/// side. The measured maximum error is about 0.52 ulp (docs/interval-arithmetic.md; the MPFR test fails if any
-/// case exceeds this bound); 2 leaves a margin of almost four.
+/// Assumed bound of the error of a libm sin/cos result (detail::libmSin / libmCos in round-to-nearest), in ulps of the
+/// exact value; the results are widened by rounding::widenByUlps with it. The measured maximum error is about
+/// 0.56 ulp (docs/soundness-libm.md; the MPFR test fails if any case exceeds this bound); 2 leaves a margin of
+/// more than three.
 constexpr int kLibmUlpBound = 2;
 
 /// Enclosure of { sin(x) : x in a }.

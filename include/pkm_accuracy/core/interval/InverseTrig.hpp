@@ -2,10 +2,11 @@
 // Dual<T, N> (T = double for point derivatives, T = Interval for enclosures over a box).
 //
 // Method (as for sin / cos in Functions.hpp): glibc's atan2 / asin are evaluated in round-to-nearest (under
-// rounding::ScopedRoundToNearest) at the points where the extremes are attained, and each value is widened by
-// kInverseTrigUlpBound ulps on each side, then clamped to the function's range. The ulp bound is checked against
-// MPFR on >= 10^5 random arguments per function, including edge cases (signed zeros, subnormals, huge ratios, the
-// axes and the branch cut), by test/core/InverseTrigMpfrTest.cpp.
+// rounding::ScopedRoundToNearest) at the points where the extremes are attained, and each value v is widened to
+// rounding::widenByUlps(v, kInverseTrigUlpBound) (every real within that many ulps of v, in ulps of that real), then
+// clamped to [-piUpper(), piUpper()] / [-halfPiUpper(), halfPiUpper()], which contain the function's range. The ulp
+// bound is checked against MPFR on >= 10^5 random arguments per function, including edge cases (signed zeros,
+// subnormals, huge ratios, the axes and the branch cut), by test/core/InverseTrigMpfrTest.cpp.
 //
 // Extremes:
 //   * asin is increasing on [-1, 1]: asin(X) = [asin(lo), asin(hi)] after intersecting X with [-1, 1] (empty if X
@@ -26,8 +27,9 @@
 namespace pkm_accuracy {
 namespace interval {
 
-/// Ulps by which a libm atan2 / asin result (round-to-nearest) is widened on each side. glibc 2.36 measures below
-/// 1 ulp on the test's random and hard cases (the MPFR test fails if any case exceeds this bound).
+/// Assumed bound of the error of a libm atan2 / asin result (round-to-nearest), in ulps of the exact value; the
+/// results are widened by rounding::widenByUlps with it. glibc 2.36 measures below 0.52 ulp on the test's random and
+/// hard cases (docs/soundness-libm.md; the MPFR test fails if any case exceeds this bound).
 constexpr int kInverseTrigUlpBound = 2;
 
 /// Enclosure of { atan2(y, x) : y in Y, x in X, (x, y) != (0, 0) } in [-pi, pi] (principal value in (-pi, pi]).

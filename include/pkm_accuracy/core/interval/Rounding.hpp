@@ -16,8 +16,9 @@
 //   * flush-to-zero / denormals-are-zero modes (MXCSR FTZ/DAZ) break IEEE semantics and are not supported, nor is a
 //     lowered x87 precision control (floatingPointEnvironmentSupported() / checkFloatingPointEnvironment() in
 //     Interval.hpp report them).
-// Library functions that are not correctly rounded (sin, cos from libm) are evaluated in round-to-nearest under a
-// ScopedRoundToNearest guard and widened by an error bound checked against MPFR (see Functions.hpp).
+// Library functions that are not correctly rounded (sin, cos, asin, atan2 from libm) are evaluated in round-to-nearest
+// under a ScopedRoundToNearest guard and widened by widenByUlps with an ulp bound checked against MPFR (see
+// Functions.hpp, InverseTrig.hpp and docs/soundness-libm.md).
 //
 // Floating-point environment contract of every public interval function: the control state (rounding direction,
 // exception enables, x87 precision control, FTZ/DAZ bits) is left bit-for-bit unchanged, and exception flags that
@@ -110,6 +111,64 @@ template <typename Matrix>
 Matrix upEach(const Matrix& m) {
   const auto r = (m.array() * (1.0 + kUpRelative) + kUpFloor).eval();
   return (r < std::numeric_limits<double>::max()).select(r, std::numeric_limits<double>::infinity()).matrix();
+}
+
+// ---- Widening of a result known to within k ulps ------------------------------------------------------------------
+//
+// ulp(y) of a real y is 2^(max(E, -1022) - 52) with E = floor(log2 |y|), and ulp(0) = 2^-1074: the spacing of the
+// doubles at |y|, at a power of two the spacing above it. A value v "within k ulps" of y means |v - y| <= k ulp(y),
+// the ulp taken at the exact value y; this is how the MPFR tests measure the libm errors. The ulp of y may be twice
+// that of v: for v just below a power of two P (in magnitude) and y at or above P. So k steps from v to the
+// neighbouring doubles do not always reach every such y: v = 1 - 4 * 2^-53 and y = 1 are 2 ulp(y) apart, while the
+// second double above v is 1 - 2^-52.
+
+/// Ulp class of a double: doubles of the same class have the same ulp (the biased exponent of |x|, with the
+/// subnormals and zeros merged into the first normal binade; +-inf and NaN have a class of their own).
+inline int ulpClass(double x) noexcept {
+  const int e = static_cast<int>((bitsOf(x) >> 52) & 0x7ff);
+  return e == 0 ? 1 : e;
+}
+
+/// A pair of doubles lower <= upper.
+struct Bounds {
+  double lower;
+  double upper;
+};
+
+/// Bounds of every real y with |y - v| <= k ulp(y) (ulp as above), for a finite double v and 0 <= k < 2^51 (NaN
+/// gives NaN bounds). With a = |v|, D(n) the n-th double below a (through zero into the negatives) and U(n) the n-th
+/// double above a, the bounds for v >= +0 are [D(k), U(k)] when U(2k) has the ulp class of a and [D(k), U(2k)]
+/// otherwise; for v <= -0 they are the mirror image. So the result is k ulps on each side, except within 2k ulps
+/// below a power of two, where the side away from zero takes 2k steps. Cost: 4k nextUp / nextDown.
+///
+/// Proof (v >= +0; v <= -0 by symmetry, since ulp(-y) = ulp(y)). Two facts about the doubles: (G) consecutive doubles
+/// p < q are ulp(min(|p|, |q|)) apart, in particular ulp(p) apart when p >= 0; (W) walking from a over consecutive
+/// doubles towards y, if every step taken while y is not yet reached is at least g long, then n steps reach or pass
+/// y once n g >= |a - y|. Let y satisfy |y - a| <= k ulp(y).
+///   * 0 <= y <= a: every step p < q taken has q > y and p >= 0, so by (G) its length ulp(p) is >= ulp(y) when
+///     p >= y, and equals ulp(y) when p < y < q (then y and p lie in one ulp class). By (W), g = ulp(y): D(k) <= y.
+///   * y < 0 <= a: then |y| <= |y - a| <= k ulp(y). A normal y has ulp(y) <= 2^-52 |y|, which would need k >= 2^52;
+///     so |y| < 2^-1022, ulp(y) = 2^-1074 and a <= k 2^-1074. All doubles of [y, a] lie on the grid 2^-1074 Z,
+///     consecutive ones 2^-1074 apart (nextDown(+0) = -2^-1074): by (W) with g = ulp(y), D(k) <= y.
+///   * y > a: every step p < q taken has p >= a, of length ulp(p) >= ulp(a). Moreover ulp(y) <= 2 ulp(a): a larger
+///     ulp(y) needs y >= 2^(e+2) where a < 2^(e+1) (e = max(floor(log2 a), -1022)), so y - a > y / 2 >= 2^51 ulp(y),
+///     i.e. k > 2^51. By (W) with g = ulp(a) and |y - a| <= k ulp(y) <= 2k ulp(a): U(2k) >= y. If U(2k) has the
+///     ulp class of a, every real of [a, U(2k)] has ulp(a) as its ulp, so y does, the steps from a up to y are ulp(a)
+///     long, and (W) with g = ulp(a), |y - a| <= k ulp(a) gives U(k) >= y.
+/// The bounds of the set of such y are nondecreasing in v, but for k >= 2 the returned ones are not (U(2k) just below
+/// a power of two exceeds U(k) at it), so callers widen every value they use, not only an extreme one.
+inline Bounds widenByUlps(double v, int k) noexcept {
+  const double a = std::fabs(v);
+  double toward = a, away = a;
+  for (int i = 0; i < k; ++i) {
+    toward = nextDown(toward);
+    away = nextUp(away);
+  }
+  double far = away;
+  for (int i = 0; i < k; ++i) far = nextUp(far);
+  if (ulpClass(far) != ulpClass(a)) away = far;
+  if (std::signbit(v)) return {-away, -toward};
+  return {toward, away};
 }
 
 /// RAII: saves the complete floating-point environment (rounding mode and exception flags), switches to
