@@ -21,7 +21,7 @@ namespace interval {
 
 /// Assumed bound of the error of a libm sin/cos result (detail::libmSin / libmCos in round-to-nearest), in ulps of the
 /// exact value; the results are widened by rounding::widenByUlps with it. The measured maximum error is about
-/// 0.56 ulp (docs/soundness-libm.md; the MPFR test fails if any case exceeds this bound); 2 leaves a margin of
+/// 0.56 ulp (docs/soundness.md; the MPFR test fails if any case exceeds this bound); 2 leaves a margin of
 /// more than three.
 constexpr int kLibmUlpBound = 2;
 

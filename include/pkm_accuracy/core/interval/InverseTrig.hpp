@@ -29,7 +29,7 @@ namespace interval {
 
 /// Assumed bound of the error of a libm atan2 / asin result (round-to-nearest), in ulps of the exact value; the
 /// results are widened by rounding::widenByUlps with it. glibc 2.36 measures below 0.52 ulp on the test's random and
-/// hard cases (docs/soundness-libm.md; the MPFR test fails if any case exceeds this bound).
+/// hard cases (docs/soundness.md; the MPFR test fails if any case exceeds this bound).
 constexpr int kInverseTrigUlpBound = 2;
 
 /// Enclosure of { atan2(y, x) : y in Y, x in X, (x, y) != (0, 0) } in [-pi, pi] (principal value in (-pi, pi]).

@@ -18,7 +18,7 @@
 //     Interval.hpp report them).
 // Library functions that are not correctly rounded (sin, cos, asin, atan2 from libm) are evaluated in round-to-nearest
 // under a ScopedRoundToNearest guard and widened by widenByUlps with an ulp bound checked against MPFR (see
-// Functions.hpp, InverseTrig.hpp and docs/soundness-libm.md).
+// Functions.hpp, InverseTrig.hpp and docs/soundness.md).
 //
 // Floating-point environment contract of every public interval function: the control state (rounding direction,
 // exception enables, x87 precision control, FTZ/DAZ bits) is left bit-for-bit unchanged, and exception flags that
