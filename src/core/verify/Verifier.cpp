@@ -623,8 +623,7 @@ class Run {
         if (!((active >> k) & 1u)) continue;
         if (f[k].lower() > options_.thresholds[k]) {
           std::lock_guard<std::mutex> lock(mutex_);
-          if (!haveWitness_) {
-            haveWitness_ = true;
+          if (!haveWitness_.load(std::memory_order_relaxed)) {  // (under the lock: the writer's own flag)
             result_.witness = t;
             result_.witness_pose = pose;
             result_.witness_component = k;
@@ -634,6 +633,7 @@ class Run {
             const unsigned every = (1u << n_) - 1u;
             if ((active & every) != every && !enclosure::errorAtPose(model_, pose, all)) all = f;
             for (int j = 0; j < n_; ++j) result_.witness_error_lower[j] = all[j].lower();
+            haveWitness_.store(true, std::memory_order_release);  // (the witness data above is complete)
           }
           if (options_.stop_at_first_witness) requestStop(Stop::Witness);
           return;
@@ -766,7 +766,7 @@ class Run {
     }
     singular_.store(true);
     // (Max-error mode: the same evaluations raise the lower bounds.)
-    if (!haveWitness_) witnessNearSingularity(pos, neg, box);
+    if (!haveWitness()) witnessNearSingularity(pos, neg, box);
     if (options_.mode == Mode::MaxError || options_.stop_at_first_witness) requestStop(Stop::Singular);
   }
 
@@ -787,7 +787,7 @@ class Run {
   /// so this succeeds unless the thresholds are beyond what double precision can certify.
   void witnessNearSingularity(DVec a, DVec b, const IVec& region) {
     const std::vector<DVec> kept = towardsSignChange(a, b);
-    for (auto it = kept.rbegin(); it != kept.rend() && !haveWitness_; ++it) {
+    for (auto it = kept.rbegin(); it != kept.rend() && !haveWitness(); ++it) {
       evaluatePoint(*it, thinBox(*it), region, true, ~0u);
     }
   }
@@ -909,7 +909,7 @@ class Run {
         for (int k = 0; k < n_; ++k) {
           if (f[k] > options_.thresholds[k]) {
             evaluatePoint(t, thin, thin, false);
-            if (haveWitness_ && options_.stop_at_first_witness) return;
+            if (haveWitness() && options_.stop_at_first_witness) return;
             evaluated = true;
             break;
           }
@@ -931,7 +931,7 @@ class Run {
         for (int j = 0; j < k && !seen; ++j) seen = best[j] >= 0.0 && bestPoint[j] == bestPoint[k];
         if (seen) continue;
         evaluatePoint(bestPoint[k], thinBox(bestPoint[k]), thinBox(bestPoint[k]), false);
-        if (haveWitness_ && options_.stop_at_first_witness) return;
+        if (haveWitness() && options_.stop_at_first_witness) return;
       }
     }
     if (options_.mode == Mode::MaxError) {
@@ -948,6 +948,9 @@ class Run {
   }
 
   // ---- bookkeeping -------------------------------------------------------------------------------------------------
+  /// A certified witness has been recorded (its data in result_ is complete and visible to the caller).
+  bool haveWitness() const { return haveWitness_.load(std::memory_order_acquire); }
+
   /// The value component k's upper bound must reach for a box to be closed for it: the threshold (verify) or the
   /// current lower bound plus the tolerance (max-error).
   double target(int k) const {
@@ -1074,7 +1077,7 @@ class Run {
     if (stop == Stop::Cancelled) reason = UndecidedReason::Cancelled;
     std::ostringstream msg;
     if (options_.mode == Mode::Verify) {
-      if (haveWitness_) {
+      if (haveWitness()) {
         r.verdict = Verdict::Unsafe;
         r.reason = UndecidedReason::None;
         msg << "UNSAFE: " << model_.componentName(r.witness_component) << " error >= " << r.witness_lower_bound
@@ -1215,7 +1218,9 @@ class Run {
   static constexpr double kGeometryMinFraction = 64;  ///< geometry ranges are not split below 1/64 of the initial
   std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0}, faceSwitches_{0}, faceBoxes_{0};
   std::mutex mutex_, progressMutex_;
-  bool haveWitness_ = false;
+  /// A certified witness is in result_ (verify mode). Set once, under mutex_, after the witness data (release); read
+  /// anywhere with haveWitness() (acquire), which then also sees that data.
+  std::atomic<bool> haveWitness_{false};
   std::atomic<bool> singular_{false};         ///< result_.singular is set
   std::atomic<bool> nominalSingular_{false};  ///< verify mode: sensitiveNearSingularity() was tried
   /// The model at the nominal geometry (every parameter at its centre; built by trySingular() when first needed).
