@@ -1863,6 +1863,37 @@ TEST(UncertaintyVerifier, Issue5MaxErrorAndVerdictsOnTheReferenceRobot) { checkI
 // maxima, UNSAFE or uncertainty_sensitive as the sampling says 5% below, witnesses for every geometry 30% below).
 TEST(UncertaintyVerifier, DecomposedGeometryFormKeepsTheIssue5Answers) { checkIssue5Answers(true); }
 
+// Verify mode without stopping at the first witness and without pre-sampling, on a box where every pose exceeds every
+// threshold for every admissible geometry (half the smallest nominal error at its corners and centre): the root box's
+// enclosure certifies that at once (ErrorBounds::lower). The verdict must be UNSAFE with a witness in the box that
+// exceeds for every sampled geometry, not SAFE with the volume counted as unsafe.
+TEST(UncertaintyVerifier, BoxCertifiedUnsafeWithoutPresamplingGivesAWitness) {
+  const Uncertain u(withUncertainty(0.0005));
+  const model::GoughPlatform robot(u.geometry);
+  const IVec box = cornerBox(1.0 / 256.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  DVec smallest = DVec::Constant(6, std::numeric_limits<double>::infinity());
+  for (int corner = 0; corner <= 64; ++corner) {
+    DVec q(6);
+    for (int i = 0; i < 6; ++i)
+      q[i] = corner == 64 ? box[i].mid() : ((corner >> i) & 1 ? box[i].upper() : box[i].lower());
+    smallest = smallest.cwiseMin(u.error(u.nominal, q));
+  }
+  std::mt19937_64 rng(1201);
+  for (const int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    verify::VerifierOptions o;
+    o.thresholds = 0.5 * smallest;
+    o.presample_points = 0;
+    o.stop_at_first_witness = false;
+    o.threads = threads;
+    const auto r = verify::Verifier::run(robot, ws, o);
+    checkWitness(r, u, box, o.thresholds, rng);
+    EXPECT_GT(r.stats.unsafe_fraction, 0.0);
+    EXPECT_NEAR(r.stats.safe_fraction + r.stats.unsafe_fraction + r.stats.undecided_fraction, 1.0, 1e-9);
+  }
+}
+
 // =====================================================================================================================
 // 5. Strategy (b): bisecting the geometry
 // =====================================================================================================================

@@ -198,10 +198,12 @@ class Run {
         if (options_.max_recorded_safe_boxes > 0 && !track.geometry) recordSafe(box, bounds.upper);
         return;
       }
-      // (Every pose of the box exceeds for every geometry: only when the box covers every admissible geometry.)
+      // Every pose of the box exceeds for every geometry (only when the box covers every admissible geometry): its
+      // centre is a witness, so the verdict is UNSAFE whatever else the search finds.
       if (!options_.stop_at_first_witness && where == domain::Containment::Inside && !track.geometry) {
         for (int k = 0; k < n_; ++k) {
           if ((active & (1u << k)) && bounds.lower[k] > options_.thresholds[k]) {
+            witnessInBox(box, k, bounds.lower[k]);
             unsafeVol_.add(vol);
             return;
           }
@@ -622,20 +624,7 @@ class Run {
       for (int k = 0; k < n_; ++k) {
         if (!((active >> k) & 1u)) continue;
         if (f[k].lower() > options_.thresholds[k]) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          if (!haveWitness_.load(std::memory_order_relaxed)) {  // (under the lock: the writer's own flag)
-            result_.witness = t;
-            result_.witness_pose = pose;
-            result_.witness_component = k;
-            result_.witness_lower_bound = f[k].lower();
-            result_.witness_error_lower = DVec(n_);
-            IVec all = f;
-            const unsigned every = (1u << n_) - 1u;
-            if ((active & every) != every && !enclosure::errorAtPose(model_, pose, all)) all = f;
-            for (int j = 0; j < n_; ++j) result_.witness_error_lower[j] = all[j].lower();
-            haveWitness_.store(true, std::memory_order_release);  // (the witness data above is complete)
-          }
-          if (options_.stop_at_first_witness) requestStop(Stop::Witness);
+          recordWitness(t, pose, k, f[k].lower(), f, active);
           return;
         }
       }
@@ -679,6 +668,45 @@ class Run {
         }
       }
     }
+  }
+
+  /// Verify mode: records the certified witness t (pose enclosure `pose`; component k's worst error >= `lower` there
+  /// for every admissible geometry, above its threshold) unless one is recorded already, and stops the search if asked
+  /// to stop at the first witness. `f`: certified errors at t for the components in `active` (the others are
+  /// evaluated here for the report).
+  void recordWitness(const DVec& t, const IVec& pose, int k, double lower, const IVec& f, unsigned active) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!haveWitness_.load(std::memory_order_relaxed)) {  // (under the lock: the writer's own flag)
+        result_.witness = t;
+        result_.witness_pose = pose;
+        result_.witness_component = k;
+        result_.witness_lower_bound = lower;
+        result_.witness_error_lower = DVec(n_);
+        IVec all = f;
+        const unsigned every = (1u << n_) - 1u;
+        if ((active & every) != every && !enclosure::errorAtPose(model_, pose, all)) all = f;
+        for (int j = 0; j < n_; ++j) result_.witness_error_lower[j] = all[j].lower();
+        result_.witness_error_lower[k] = std::max(result_.witness_error_lower[k], lower);
+        haveWitness_.store(true, std::memory_order_release);  // (the witness data above is complete)
+      }
+    }
+    if (options_.stop_at_first_witness) requestStop(Stop::Witness);
+  }
+
+  /// Verify mode: a box inside the domain, searched for every admissible geometry, whose enclosure certifies that
+  /// component k's error exceeds its threshold at every pose (ErrorBounds::lower[k] = `lower`). Its centre becomes
+  /// the witness (unless one is recorded already): with the certified point evaluation's bound there when that
+  /// exceeds the threshold, else with the box's own bound (it holds at every pose of the box).
+  void witnessInBox(const IVec& box, int k, double lower) {
+    if (haveWitness()) return;
+    const DVec c = domain::centreOf(box);
+    evaluatePoint(c, thinBox(c), box, true, 1u << k);
+    if (haveWitness()) return;
+    const IVec pose = domain_.poseAt(c);
+    IVec f;
+    if (!enclosure::errorAtPose(model_, pose, f)) f = IVec::Constant(n_, Interval(0.0));
+    recordWitness(c, pose, k, std::max(lower, f[k].lower()), f, ~0u);
   }
 
   /// A box whose enclosure is unbounded may contain a singular pose. det J^-1 is evaluated in double (at the
