@@ -24,6 +24,7 @@
 
 #include <Eigen/Geometry>
 
+#include "TestRobots.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/io/ResultWriter.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
@@ -398,7 +399,8 @@ pkm_accuracy::model::GoughPlatform ref6WithGeometry(const Json& values) {
   return pkm_accuracy::model::GoughPlatform(g);
 }
 
-/// A reported geometry {name: value} is one of the robot's geometry parameters each, within its nominal value +- h.
+/// A reported geometry {name: value} is one of the robot's geometry parameters each, within its nominal value +- h
+/// (exactly, as real numbers).
 void expectAdmissibleGeometry(const Json& values, const Json& names, double h) {
   ASSERT_EQ(values.type, Json::Type::Object);
   ASSERT_EQ(values.size(), names.size());
@@ -410,7 +412,8 @@ void expectAdmissibleGeometry(const Json& values, const Json& names, double h) {
     const int leg = std::stoi(name.substr(name.find('[') + 1));
     const double centre = (name.rfind("base_anchors[", 0) == 0 ? nominal.base_anchors : nominal.platform_anchors)
                               .at(static_cast<std::size_t>(leg))[axis];
-    EXPECT_LE(std::abs(values[name].num() - centre), h * (1.0 + 1e-9)) << name;
+    EXPECT_TRUE(pkm_accuracy::test::withinHalfWidth(values[name].num(), centre, h))
+        << name << " = " << values[name].num() << ", nominal " << centre;
   }
 }
 

@@ -99,7 +99,10 @@ class Run {
       undecidedMax_[k] = std::make_unique<AtomicDouble>(0.0);
     }
     hasThresholds_ = options.thresholds.size() == n_;
-    for (int p = 0; p < params_; ++p) geometryRange_.push_back(model.geometryParameterRange(p));
+    for (int p = 0; p < params_; ++p) {
+      geometryRange_.push_back(model.geometryParameterRange(p));
+      admissible_.push_back(model.geometryParameterAdmissible(p));
+    }
     int varying = 0;
     for (int i = 0; i < m_; ++i) varying += initWidth_[i] > 0.0 ? 1 : 0;
     // (Default: half the varying box variables, at least 2. Session 23, paper workspace at +-1 mm, 2 threads: with
@@ -769,8 +772,9 @@ class Run {
       std::call_once(nominalOnce_, [&] {
         std::vector<Interval> point(static_cast<std::size_t>(params_));
         nominalValues_.resize(static_cast<std::size_t>(params_));
-        for (int p = 0; p < params_; ++p) {
-          nominalValues_[p] = model_.geometryParameterCentre(p);
+        for (int p = 0; p < params_; ++p) {  // (the centre, within the admissible values: it is reported)
+          nominalValues_[p] =
+              std::min(std::max(model_.geometryParameterCentre(p), admissible_[p].lower()), admissible_[p].upper());
           point[p] = Interval(nominalValues_[p]);
         }
         nominal_ = model_.restrictGeometry(point);
@@ -889,14 +893,15 @@ class Run {
     }
   }
 
-  /// The model at the vertex of the geometry box that the sensitivities of component k point to (direction +1:
-  /// raising its error, -1: lowering it); `values` receives the vertex.
+  /// The model at the vertex of the admissible geometry box (model::RobotModel::geometryParameterAdmissible, so that
+  /// the geometry reported with what is certified there is one the user admits) that the sensitivities of component k
+  /// point to (direction +1: raising its error, -1: lowering it); `values` receives the vertex.
   std::unique_ptr<model::RobotModel> vertexModel(const GMat& sensitivity, int k, double direction,
                                                  std::vector<double>& values) const {
     std::vector<Interval> point(static_cast<std::size_t>(params_));
     values.resize(static_cast<std::size_t>(params_));
     for (int p = 0; p < params_; ++p) {
-      const Interval& r = geometryRange_[p];
+      const Interval& r = admissible_[p];
       values[p] = sensitivity(k, p) * direction >= 0.0 ? r.upper() : r.lower();
       point[p] = Interval(values[p]);
     }
@@ -1240,6 +1245,7 @@ class Run {
   std::vector<std::vector<double>> argmaxGeometry_;
   const int params_;                     ///< uncertain geometry parameters of the model
   std::vector<Interval> geometryRange_;  ///< their initial ranges
+  std::vector<Interval> admissible_;     ///< their admissible values (inside the ranges; reported points lie in them)
   int stallLevels_ = 2;
   static constexpr double kProgress = 0.5;            ///< the excess must drop below this share of its reference
   static constexpr int kMaxGeometrySplits = 12;       ///< geometry bisections per search path at most

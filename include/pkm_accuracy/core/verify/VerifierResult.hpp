@@ -115,7 +115,9 @@ struct VerifierResult {
   DVec max_upper;                ///< max over the domain of f_k <= max_upper[k] (+inf if unbounded)
   std::vector<DVec> max_argmax;  ///< per component: the variables of a point attaining max_lower
   /// With uncertain geometry, per component: the geometry (one value per parameter) attaining max_lower at
-  /// max_argmax (empty when the bound holds for every geometry).
+  /// max_argmax (empty when the bound holds for every geometry). Its values, like every geometry a result reports,
+  /// are admissible as the geometry was given (model::RobotModel::geometryParameterAdmissible: nominal +- half-width,
+  /// not the model's outward-rounded ranges).
   std::vector<std::vector<double>> max_argmax_geometry;
   bool converged = false;  ///< MaxError: upper - lower <= alpha for every component
 
