@@ -366,9 +366,15 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
     m.set("lower", numbers(r.max_lower));
     m.set("upper", numbers(r.max_upper));
     m.set("converged", Node::boolean(r.converged));
-    Node argmax = Node::array();
-    for (const DVec& a : r.max_argmax) argmax.push(numbersOrNull(a));
+    // The argmax poses in the base frame (as the witness), and the points of the domain's variables they are at.
+    Node argmax = Node::array(), variables = Node::array();
+    for (std::size_t k = 0; k < r.max_argmax.size(); ++k) {
+      const bool pose = k < r.max_argmax_pose.size() && r.max_argmax_pose[k].size() > 0;
+      argmax.push(pose ? numbers(midpoints(r.max_argmax_pose[k])) : Node());
+      variables.push(numbersOrNull(r.max_argmax[k]));
+    }
     m.set("argmax", argmax);
+    m.set("argmax_variables", variables);
     if (isTrajectory(info)) {  // the time of every argmax (s)
       Node times = Node::array();
       for (const DVec& a : r.max_argmax) times.push(a.size() > 0 ? Node::number(info.timeOf(a[0])) : Node());

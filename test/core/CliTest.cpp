@@ -618,15 +618,34 @@ TEST_F(CliTest, WorkspaceFileInAFrameIsVerifiedInTheBaseFrame) {
     SCOPED_TRACE("component " + std::to_string(k));
     EXPECT_LE(sampled[k], upper[k] * (1.0 + 1e-12));
     EXPECT_LE(lower[k], upper[k]);
-    // The argmax is a point of the box in F (the workspace's own variables) that attains lower once mapped.
-    const auto argmax = j["max_error"]["argmax"][k].numbers();
-    expectInside(argmax, box);
-    DVec p(6);
-    for (int i = 0; i < 6; ++i) p[i] = argmax[i];
-    EXPECT_GE(model.worstErrorAt(toBase(p))[k], lower[k] * (1.0 - 1e-9));
+    // argmax_variables is a point of the box in F (the workspace's own variables); argmax is its pose in the base
+    // frame, which attains lower.
+    const auto variables = j["max_error"]["argmax_variables"][static_cast<std::size_t>(k)].numbers();
+    expectInside(variables, box);
+    const auto argmax = j["max_error"]["argmax"][static_cast<std::size_t>(k)].numbers();
+    ASSERT_EQ(argmax.size(), 6u);
+    DVec p(6), pose(6);
+    for (int i = 0; i < 6; ++i) p[i] = variables[i], pose[i] = argmax[i];
+    EXPECT_LT((pose - toBase(p)).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_GE(model.worstErrorAt(pose)[k], lower[k] * (1.0 - 1e-9));
     differs = differs || std::abs(unframed[k] - upper[k]) > 0.1 * upper[k];
   }
   EXPECT_TRUE(differs) << "the frame changed nothing";
+
+  // Verify mode below the sampled maxima: the witness pose is in the base frame too (exceeding there), its
+  // variables in F.
+  std::vector<double> below(6);
+  for (int k = 0; k < 6; ++k) below[k] = 0.9 * sampled[k];
+  const Json w = runJson({"--robot", kRef6, "--workspace", ws, "--thresholds", join(below), "--threads", "1"}, 1);
+  const auto variables = w["witness_variables"].numbers();
+  expectInside(variables, box);
+  const auto witness = w["witness"].numbers();
+  ASSERT_EQ(witness.size(), 6u);
+  DVec p(6), pose(6);
+  for (int i = 0; i < 6; ++i) p[i] = variables[i], pose[i] = witness[i];
+  EXPECT_LT((pose - toBase(p)).cwiseAbs().maxCoeff(), 1e-12);
+  const int c = static_cast<int>(w["witness_component"].num());
+  EXPECT_GT(model.worstErrorAt(pose)[c], below[static_cast<std::size_t>(c)]);
 
   // A malformed frame is refused naming the key.
   {
@@ -655,13 +674,16 @@ TEST_F(CliTest, RobotFileWorkspaceInAFrame) {
   EXPECT_NE(j["workspace"].str().find("paper, in frame (translation [0, 0, 0.01] m, rpy [0, 0, 0] rad)"),
             std::string::npos)
       << j["workspace"].str();
-  // z in F is the file's range; the poses verified are 1 cm higher: the dz bracket holds the oracle's value there.
+  // z in F is the file's range; the poses verified (and reported) are 1 cm higher: the dz bracket holds the oracle's
+  // value there.
   const auto model = ref6Model();
   const auto argmax = j["max_error"]["argmax"][2].numbers();
+  const auto variables = j["max_error"]["argmax_variables"][2].numbers();
   ASSERT_EQ(argmax.size(), 6u);
+  ASSERT_EQ(variables.size(), 6u);
+  EXPECT_NEAR(argmax[2], variables[2] + 0.01, 1e-15);
   DVec p(6);
   for (int i = 0; i < 6; ++i) p[i] = argmax[i];
-  p[2] += 0.01;
   EXPECT_GE(model.worstErrorAt(p)[2], j["max_error"]["lower"][2].num() * (1.0 - 1e-9));
 }
 

@@ -1151,6 +1151,9 @@ class Run {
       r.max_lower = DVec(n_);
       r.max_upper = DVec(n_);
       r.max_argmax = argmax_;
+      r.max_argmax_pose.assign(argmax_.size(), IVec());
+      for (std::size_t k = 0; k < argmax_.size(); ++k)
+        if (argmax_[k].size() == m_) r.max_argmax_pose[k] = domain_.poseAt(argmax_[k]);
       if (params_ > 0) r.max_argmax_geometry = argmaxGeometry_;
       r.converged = r.undecided_box_count == 0;
       for (int k = 0; k < n_; ++k) {

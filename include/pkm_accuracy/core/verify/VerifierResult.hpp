@@ -114,6 +114,9 @@ struct VerifierResult {
   DVec max_lower;                ///< attained: f_k(max_argmax[k]) >= max_lower[k]
   DVec max_upper;                ///< max over the domain of f_k <= max_upper[k] (+inf if unbounded)
   std::vector<DVec> max_argmax;  ///< per component: the variables of a point attaining max_lower
+  /// Per component: enclosure of the pose at max_argmax (x, y, z, roll, pitch, yaw, as the model sees it: in the base
+  /// frame for a domain given in another frame, like witness_pose); empty where max_argmax is.
+  std::vector<IVec> max_argmax_pose;
   /// With uncertain geometry, per component: the geometry (one value per parameter) attaining max_lower at
   /// max_argmax (empty when the bound holds for every geometry). Its values, like every geometry a result reports,
   /// are admissible as the geometry was given (model::RobotModel::geometryParameterAdmissible: nominal +- half-width,
