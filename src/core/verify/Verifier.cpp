@@ -16,6 +16,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "SelfCheck.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
@@ -77,7 +78,10 @@ class Run {
       : model_(model),
         domain_(domain),
         options_(options),
-        method_(enclosure::makeEnclosure(options.method)),
+        method_(options.enclosure
+                    ? options.enclosure
+                    : std::shared_ptr<const enclosure::ErrorEnclosure>(enclosure::makeEnclosure(options.method))),
+        selfCheck_(domain, method_->name()),
         n_(model.dof()),
         m_(domain.variables()),
         initial_(domain.initialBox()),
@@ -180,6 +184,7 @@ class Run {
     maybeReportProgress();
     if (options_.monotonicity && where == domain::Containment::Inside)
       tightenByGradient(model, box, in, bounds, active);
+    if (options_.self_check) selfCheck(model, box, active, bounds, track);
     if (where == domain::Containment::Inside && !singular_.load(std::memory_order_relaxed)) {
       bool unbounded = false;
       for (int k = 0; k < n_; ++k) unbounded = unbounded || ((active >> k) & 1u && !(bounds.upper[k] < kInf));
@@ -445,6 +450,24 @@ class Run {
         gradientHits_.fetch_add(1, std::memory_order_relaxed);
       }
       evaluatePoint(point, thinBox(point), box);
+    }
+  }
+
+  /// VerifierOptions::self_check: the box's final bounds (components in `active`) against point evaluations over the
+  /// box and the geometry ranges its track was enclosed with. @throws InternalError (SelfCheck::check), after asking
+  /// the other workers to stop.
+  void selfCheck(const model::RobotModel& model, const IVec& box, unsigned active, const enclosure::ErrorBounds& bounds,
+                 const Track& track) {
+    const std::vector<Interval> none;
+    const std::vector<Interval>& ranges = !model.hasGeometryUncertainty() || params_ == 0
+                                              ? none
+                                              : (track.geometry ? track.geometry->ranges : geometryRange_);
+    try {
+      selfCheckPoints_.fetch_add(static_cast<std::size_t>(selfCheck_.check(model, ranges, box, active, bounds)),
+                                 std::memory_order_relaxed);
+    } catch (const InternalError&) {
+      requestStop(Stop::Cancelled);
+      throw;
     }
   }
 
@@ -1074,6 +1097,7 @@ class Run {
     s.face_boxes = faceBoxes_.load();
     s.unenclosed_boxes = unenclosed_.load();
     s.geometry_splits = geometrySplits_.load();
+    s.self_check_points = selfCheckPoints_.load();
     return s;
   }
 
@@ -1217,7 +1241,8 @@ class Run {
   const model::RobotModel& model_;
   const domain::Domain& domain_;
   const VerifierOptions& options_;
-  std::unique_ptr<enclosure::ErrorEnclosure> method_;
+  std::shared_ptr<const enclosure::ErrorEnclosure> method_;
+  const SelfCheck selfCheck_;
   const int n_, m_;
   const IVec initial_;
   DVec minWidth_, initWidth_;
@@ -1239,6 +1264,7 @@ class Run {
   std::atomic<int> stop_{0};
   std::atomic<std::size_t> boxes_{0};
   std::atomic<std::size_t> unenclosed_{0};
+  std::atomic<std::size_t> selfCheckPoints_{0};
   std::atomic<std::size_t> gradientHits_{0};
   std::atomic<int> maxDepth_{0};
   std::atomic<Clock::rep> nextProgress_{0};
