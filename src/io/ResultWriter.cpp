@@ -408,6 +408,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   s.set("face_switches", count(r.stats.face_switches));
   s.set("face_boxes", count(r.stats.face_boxes));
   s.set("unenclosed_boxes", count(r.stats.unenclosed_boxes));
+  s.set("self_check_points", o.self_check ? count(r.stats.self_check_points) : Node());
   d.set("stats", s);
 
   Node u = Node::object();
@@ -731,6 +732,10 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
      << s.threads << " thread" << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth;
   if (s.unenclosed_boxes > 0) os << "; " << s.unenclosed_boxes << " split without an enclosure";
   os << "\n";
+  if (o.self_check) {
+    os << "self-check: " << s.self_check_points << " point" << (s.self_check_points == 1 ? "" : "s")
+       << " of the boxes evaluated in double, each within its box's certified bounds\n";
+  }
   if (!info.geometry_parameters.empty()) {
     os << "geometry:  " << info.geometry_parameters.size() << " uncertain parameter"
        << (info.geometry_parameters.size() == 1 ? "" : "s") << ", splitting "

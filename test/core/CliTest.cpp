@@ -1136,6 +1136,46 @@ TEST_F(CliTest, GeneralBoxOffsetsFromTheRobotFile) {
 
 // A robot file key nobody reads (here a misspelt tool_point_uncertainty) is reported on stderr, and the run goes on
 // without it; the node's own parameters in the same file are not reported.
+// --self-check on the paper workspace at anchor uncertainty 0, 0.5 mm and 1 mm (a box budget keeps each run short),
+// a trajectory and a motion variety: every run passes it (no internal error), and the summary and
+// stats.self_check_points count the points it evaluated; without it the key is null.
+TEST_F(CliTest, SelfCheckPassesOnThePaperWorkspaceATrajectoryAndAVariety) {
+  const std::string variety = path("variety.yaml");
+  std::ofstream(variety) << "variety:\n  parameters: 2\n  x: [[-0.05, 0, 0], [0.1, 1, 0]]\n"
+                            "  y: [[-0.05, 0, 0], [0.1, 0, 1]]\n  z: [[0.47, 0, 0]]\n  yaw: [[0.2, 1, 1]]\n";
+  const std::string trajectory = std::string(kSource) + "/config/trajectory_example.yaml";
+  const std::vector<std::vector<std::string>> cases = {
+      {"--workspace", "paper", "--uncertainty", "0", "--mode", "max-error", "--alpha", "0.5", "--max-boxes", "300"},
+      {"--workspace", "paper", "--uncertainty", "0.0005", "--mode", "max-error", "--alpha", "0.5", "--max-boxes",
+       "300"},
+      {"--workspace", "paper", "--uncertainty", "0.001", "--mode", "max-error", "--alpha", "0.5", "--max-boxes", "300"},
+      {"--trajectory", trajectory, "--mode", "max-error", "--alpha", "0.02"},
+      {"--trajectory", variety, "--thresholds", "1e-3,1e-3,1e-3,1e-2,1e-2,1e-2"}};
+  for (const auto& c : cases) {
+    std::vector<std::string> args = {"--robot", kRef6, "--threads", "2", "--self-check", "--json", path("sc.json")};
+    args.insert(args.end(), c.begin(), c.end());
+    std::string line;
+    for (const auto& a : c) line += a + " ";
+    SCOPED_TRACE(line);
+    const RunResult r = run(args);
+    EXPECT_TRUE(r.code == 0 || r.code == 2) << "stdout:\n" << r.out << "stderr:\n" << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    const Json j = parseJson(readFile(path("sc.json")));
+    const double points = j["stats"]["self_check_points"].num();
+    EXPECT_GE(points, j["stats"]["boxes"].num());
+    EXPECT_GT(points, 0.0);
+    EXPECT_NE(r.out.find("self-check: " + std::to_string(static_cast<long>(points)) +
+                         " points of the boxes evaluated in double, each within its box's certified bounds"),
+              std::string::npos)
+        << r.out;
+  }
+  const Json plain = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", "1,1,1,1,1,1"}, 0);
+  EXPECT_TRUE(plain["stats"]["self_check_points"].isNull());
+  const RunResult help = run({"--help"});
+  EXPECT_NE(help.out.find("--self-check"), std::string::npos);
+  EXPECT_NE(help.out.find("exit code 4"), std::string::npos);
+}
+
 TEST_F(CliTest, UnknownRobotFileKeysAreReported) {
   const std::string robot =
       writeRobot("misspelt.yaml", "tool_point_uncertanty: [0, 0, 0.001]\nbase_frame: world\nprogress_rate: 1\n");

@@ -37,7 +37,8 @@
 //               entries where the bound holds for every geometry; null without geometric uncertainty)} in max-error
 //               mode,
 //   stats: {boxes, seconds, max_depth, safe_fraction, unsafe_fraction, undecided_fraction, outside_fraction,
-//           threads, geometry_switches, geometry_splits, face_switches, face_boxes, unenclosed_boxes},
+//           threads, geometry_switches, geometry_splits, face_switches, face_boxes, unenclosed_boxes,
+//           self_check_points (with the self-check: the points evaluated, each within its box's bounds; else null)},
 //   undecided_boxes: {count, recorded, listed, boxes: [[[lo, hi] x variables] ...], upper: [[6] ...],
 //                     geometry: [{parameter name: [lo, hi]} or null (every admissible geometry), one per listed box]
 //                     or null without geometric uncertainty},
