@@ -602,7 +602,7 @@ int run(int argc, char** argv) {
   info.units.assign(std::begin(kUnits), std::end(kUnits));
   for (int p = 0; p < model.geometryParameterCount(); ++p) {
     info.geometry_parameters.push_back(model.geometryParameterName(p));
-    info.geometry_ranges.push_back(model.geometryParameterAdmissible(p));
+    info.geometry_ranges.push_back(model.geometryParameterRange(p));
   }
   describeUncertainty(robot.geometry, info);
 

@@ -78,7 +78,8 @@ struct RunInfo {
   /// Names of the model's uncertain geometry parameters (model::RobotModel::geometryParameterName), in the order of
   /// every geometry vector of the result; empty without geometric uncertainty.
   std::vector<std::string> geometry_parameters;
-  /// The admissible values of every geometry parameter (model::RobotModel::geometryParameterAdmissible), same order.
+  /// The range of every geometry parameter (model::RobotModel::geometryParameterRange: the admissible values, rounded
+  /// outward), same order.
   std::vector<Interval> geometry_ranges;
   int exit_code = -1;                  ///< the process exit code, if known (-1: not written)
   std::size_t max_listed_boxes = 100;  ///< undecided boxes listed in the reports
