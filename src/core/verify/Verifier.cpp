@@ -722,13 +722,11 @@ class Run {
 
   /// Verify mode: a box inside the domain, searched for every admissible geometry, whose enclosure certifies that
   /// component k's error exceeds its threshold at every pose (ErrorBounds::lower[k] = `lower`). Its centre becomes
-  /// the witness (unless one is recorded already): with the certified point evaluation's bound there when that
-  /// exceeds the threshold, else with the box's own bound (it holds at every pose of the box).
+  /// the witness (unless one is recorded already), with the larger of the box's bound (it holds at every pose of the
+  /// box) and the certified point evaluation's there.
   void witnessInBox(const IVec& box, int k, double lower) {
     if (haveWitness()) return;
     const DVec c = domain::centreOf(box);
-    evaluatePoint(c, thinBox(c), box, true, 1u << k);
-    if (haveWitness()) return;
     const IVec pose = domain_.poseAt(c);
     IVec f;
     if (!enclosure::errorAtPose(model_, pose, f)) f = IVec::Constant(n_, Interval(0.0));
