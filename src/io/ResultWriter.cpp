@@ -366,9 +366,15 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
     m.set("lower", numbers(r.max_lower));
     m.set("upper", numbers(r.max_upper));
     m.set("converged", Node::boolean(r.converged));
-    Node argmax = Node::array();
-    for (const DVec& a : r.max_argmax) argmax.push(numbersOrNull(a));
+    // The argmax poses in the base frame (as the witness), and the points of the domain's variables they are at.
+    Node argmax = Node::array(), variables = Node::array();
+    for (std::size_t k = 0; k < r.max_argmax.size(); ++k) {
+      const bool pose = k < r.max_argmax_pose.size() && r.max_argmax_pose[k].size() > 0;
+      argmax.push(pose ? numbers(midpoints(r.max_argmax_pose[k])) : Node());
+      variables.push(numbersOrNull(r.max_argmax[k]));
+    }
     m.set("argmax", argmax);
+    m.set("argmax_variables", variables);
     if (isTrajectory(info)) {  // the time of every argmax (s)
       Node times = Node::array();
       for (const DVec& a : r.max_argmax) times.push(a.size() > 0 ? Node::number(info.timeOf(a[0])) : Node());
@@ -402,6 +408,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   s.set("face_switches", count(r.stats.face_switches));
   s.set("face_boxes", count(r.stats.face_boxes));
   s.set("unenclosed_boxes", count(r.stats.unenclosed_boxes));
+  s.set("self_check_points", o.self_check ? count(r.stats.self_check_points) : Node());
   d.set("stats", s);
 
   Node u = Node::object();
@@ -725,6 +732,10 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
      << s.threads << " thread" << (s.threads == 1 ? "" : "s") << ", max depth " << s.max_depth;
   if (s.unenclosed_boxes > 0) os << "; " << s.unenclosed_boxes << " split without an enclosure";
   os << "\n";
+  if (o.self_check) {
+    os << "self-check: " << s.self_check_points << " point" << (s.self_check_points == 1 ? "" : "s")
+       << " of the boxes evaluated in double, each within its box's certified bounds\n";
+  }
   if (!info.geometry_parameters.empty()) {
     os << "geometry:  " << info.geometry_parameters.size() << " uncertain parameter"
        << (info.geometry_parameters.size() == 1 ? "" : "s") << ", splitting "

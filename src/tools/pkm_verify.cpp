@@ -63,7 +63,7 @@ void usage(std::ostream& os) {
         "                  [--bisection smear|width|round-robin] [--geometry-splitting auto|never|always]\n"
         "                  [--stall-levels N] [--faces on|off] [--skip-hopeless on|off]\n"
         "                  [--geometry-form combined|decomposed] [--json OUT] [--yaml OUT]\n"
-        "                  [--quiet] [--progress]\n"
+        "                  [--self-check] [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
         "       pkm_verify --help\n"
         "\n"
@@ -74,8 +74,9 @@ void usage(std::ostream& os) {
         "  --robot FILE           robot file in the format of config/ref6.yaml (required)\n"
         "  --workspace NAME|FILE  a workspace of the robot file's `workspaces:` map, or a workspace YAML file\n"
         "                         (keys x, y, z, roll, pitch, yaw, optional region and frame: {translation, rpy} of\n"
-        "                         the workspace's frame in the base frame); default: the robot file's only\n"
-        "                         workspace, else the one named `paper`\n"
+        "                         the workspace's frame in the base frame: the reports' poses are in the base\n"
+        "                         frame, the points in the workspace's variables in its frame); default: the robot\n"
+        "                         file's only workspace, else the one named `paper`\n"
         "  --trajectory FILE      verify every pose along a trajectory or motion variety instead of a workspace\n"
         "                         (YAML: waypoints [t, x, y, z, roll, pitch, yaw] with interpolation slerp or\n"
         "                         linear_rpy, polynomial_segments, or variety; optional region and frame:\n"
@@ -121,6 +122,13 @@ void usage(std::ostream& os) {
         "                         monotone, before bisecting the geometry (default on)\n"
         "  --time-limit S         stop after S seconds of wall time (default 0: no limit)\n"
         "  --max-boxes N          stop after N boxes (default 0: no limit)\n"
+        "  --self-check           check the enclosures while the run goes on: for every box enclosed, 4 points of\n"
+        "                         the box (centre, a vertex, random points; with anchor uncertainty each with a\n"
+        "                         vertex or a random point of the geometry ranges) are evaluated in plain double;\n"
+        "                         a value outside the box's certified bounds beyond round-off (relative 1e-9 plus\n"
+        "                         1e-14 x the condition number of J^-1) stops the run with exit code 4 and a\n"
+        "                         message naming the enclosure method, the box and the point (a defect of this\n"
+        "                         program). The summary and stats.self_check_points count the points checked\n"
         "Output:\n"
         "  --json OUT             write the result as JSON to OUT ('-': standard output; the summary then goes\n"
         "                         to stderr)\n"
@@ -142,7 +150,7 @@ void usage(std::ostream& os) {
         "     converge)\n"
         "  3  bad input: bad arguments, unreadable files or invalid values (one line on stderr names the argument\n"
         "     or field)\n"
-        "  4  internal error\n"
+        "  4  internal error (also: the self-check found a bound contradicted by a point evaluation)\n"
         "\n"
         "Example:\n"
         "  pkm_verify --robot config/ref6.yaml --workspace paper_40deg \\\n"
@@ -192,7 +200,8 @@ Arguments parseArguments(int argc, char** argv) {
       "--time-limit",   "--json",        "--yaml",          "--max-boxes",
       "--min-width",    "--bisection",   "--trajectory",    "--geometry-splitting",
       "--stall-levels", "--faces",       "--skip-hopeless", "--geometry-form"};
-  static const std::vector<std::string> flags = {"--help", "-h", "--list-workspaces", "--quiet", "-q", "--progress"};
+  static const std::vector<std::string> flags = {"--help", "-h",         "--list-workspaces", "--quiet",
+                                                 "-q",     "--progress", "--self-check"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
     std::string value;
@@ -224,6 +233,8 @@ Arguments parseArguments(int argc, char** argv) {
       a.quiet = true;
     } else if (arg == "--progress") {
       a.progress = true;
+    } else if (arg == "--self-check") {
+      a.options.self_check = true;
     } else if (arg == "--robot") {
       if (value.empty()) badArgument(arg, "expected a file name, got an empty value");
       a.robot = value;
@@ -662,6 +673,9 @@ int main(int argc, char** argv) {
   } catch (const pkm_accuracy::InvalidArgument& e) {  // also ParseError, InvalidGeometry
     std::cerr << "pkm_verify: error: " << oneLine(e.what()) << "\n";
     return kBadInput;
+  } catch (const pkm_accuracy::InternalError& e) {  // e.g. the self-check
+    std::cerr << "pkm_verify: internal error: " << oneLine(e.what()) << " (a defect of pkm_verify: please report it)\n";
+    return kInternal;
   } catch (const std::exception& e) {
     std::cerr << "pkm_verify: internal error: " << oneLine(e.what()) << "\n";
     return kInternal;

@@ -24,6 +24,7 @@
 
 #include <Eigen/Geometry>
 
+#include "TestRobots.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/io/ResultWriter.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
@@ -398,7 +399,8 @@ pkm_accuracy::model::GoughPlatform ref6WithGeometry(const Json& values) {
   return pkm_accuracy::model::GoughPlatform(g);
 }
 
-/// A reported geometry {name: value} is one of the robot's geometry parameters each, within its nominal value +- h.
+/// A reported geometry {name: value} is one of the robot's geometry parameters each, within its nominal value +- h
+/// (exactly, as real numbers).
 void expectAdmissibleGeometry(const Json& values, const Json& names, double h) {
   ASSERT_EQ(values.type, Json::Type::Object);
   ASSERT_EQ(values.size(), names.size());
@@ -410,7 +412,8 @@ void expectAdmissibleGeometry(const Json& values, const Json& names, double h) {
     const int leg = std::stoi(name.substr(name.find('[') + 1));
     const double centre = (name.rfind("base_anchors[", 0) == 0 ? nominal.base_anchors : nominal.platform_anchors)
                               .at(static_cast<std::size_t>(leg))[axis];
-    EXPECT_LE(std::abs(values[name].num() - centre), h * (1.0 + 1e-9)) << name;
+    EXPECT_TRUE(pkm_accuracy::test::withinHalfWidth(values[name].num(), centre, h))
+        << name << " = " << values[name].num() << ", nominal " << centre;
   }
 }
 
@@ -615,15 +618,34 @@ TEST_F(CliTest, WorkspaceFileInAFrameIsVerifiedInTheBaseFrame) {
     SCOPED_TRACE("component " + std::to_string(k));
     EXPECT_LE(sampled[k], upper[k] * (1.0 + 1e-12));
     EXPECT_LE(lower[k], upper[k]);
-    // The argmax is a point of the box in F (the workspace's own variables) that attains lower once mapped.
-    const auto argmax = j["max_error"]["argmax"][k].numbers();
-    expectInside(argmax, box);
-    DVec p(6);
-    for (int i = 0; i < 6; ++i) p[i] = argmax[i];
-    EXPECT_GE(model.worstErrorAt(toBase(p))[k], lower[k] * (1.0 - 1e-9));
+    // argmax_variables is a point of the box in F (the workspace's own variables); argmax is its pose in the base
+    // frame, which attains lower.
+    const auto variables = j["max_error"]["argmax_variables"][static_cast<std::size_t>(k)].numbers();
+    expectInside(variables, box);
+    const auto argmax = j["max_error"]["argmax"][static_cast<std::size_t>(k)].numbers();
+    ASSERT_EQ(argmax.size(), 6u);
+    DVec p(6), pose(6);
+    for (int i = 0; i < 6; ++i) p[i] = variables[i], pose[i] = argmax[i];
+    EXPECT_LT((pose - toBase(p)).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_GE(model.worstErrorAt(pose)[k], lower[k] * (1.0 - 1e-9));
     differs = differs || std::abs(unframed[k] - upper[k]) > 0.1 * upper[k];
   }
   EXPECT_TRUE(differs) << "the frame changed nothing";
+
+  // Verify mode below the sampled maxima: the witness pose is in the base frame too (exceeding there), its
+  // variables in F.
+  std::vector<double> below(6);
+  for (int k = 0; k < 6; ++k) below[k] = 0.9 * sampled[k];
+  const Json w = runJson({"--robot", kRef6, "--workspace", ws, "--thresholds", join(below), "--threads", "1"}, 1);
+  const auto variables = w["witness_variables"].numbers();
+  expectInside(variables, box);
+  const auto witness = w["witness"].numbers();
+  ASSERT_EQ(witness.size(), 6u);
+  DVec p(6), pose(6);
+  for (int i = 0; i < 6; ++i) p[i] = variables[i], pose[i] = witness[i];
+  EXPECT_LT((pose - toBase(p)).cwiseAbs().maxCoeff(), 1e-12);
+  const int c = static_cast<int>(w["witness_component"].num());
+  EXPECT_GT(model.worstErrorAt(pose)[c], below[static_cast<std::size_t>(c)]);
 
   // A malformed frame is refused naming the key.
   {
@@ -652,13 +674,16 @@ TEST_F(CliTest, RobotFileWorkspaceInAFrame) {
   EXPECT_NE(j["workspace"].str().find("paper, in frame (translation [0, 0, 0.01] m, rpy [0, 0, 0] rad)"),
             std::string::npos)
       << j["workspace"].str();
-  // z in F is the file's range; the poses verified are 1 cm higher: the dz bracket holds the oracle's value there.
+  // z in F is the file's range; the poses verified (and reported) are 1 cm higher: the dz bracket holds the oracle's
+  // value there.
   const auto model = ref6Model();
   const auto argmax = j["max_error"]["argmax"][2].numbers();
+  const auto variables = j["max_error"]["argmax_variables"][2].numbers();
   ASSERT_EQ(argmax.size(), 6u);
+  ASSERT_EQ(variables.size(), 6u);
+  EXPECT_NEAR(argmax[2], variables[2] + 0.01, 1e-15);
   DVec p(6);
   for (int i = 0; i < 6; ++i) p[i] = argmax[i];
-  p[2] += 0.01;
   EXPECT_GE(model.worstErrorAt(p)[2], j["max_error"]["lower"][2].num() * (1.0 - 1e-9));
 }
 
@@ -1111,6 +1136,46 @@ TEST_F(CliTest, GeneralBoxOffsetsFromTheRobotFile) {
 
 // A robot file key nobody reads (here a misspelt tool_point_uncertainty) is reported on stderr, and the run goes on
 // without it; the node's own parameters in the same file are not reported.
+// --self-check on the paper workspace at anchor uncertainty 0, 0.5 mm and 1 mm (a box budget keeps each run short),
+// a trajectory and a motion variety: every run passes it (no internal error), and the summary and
+// stats.self_check_points count the points it evaluated; without it the key is null.
+TEST_F(CliTest, SelfCheckPassesOnThePaperWorkspaceATrajectoryAndAVariety) {
+  const std::string variety = path("variety.yaml");
+  std::ofstream(variety) << "variety:\n  parameters: 2\n  x: [[-0.05, 0, 0], [0.1, 1, 0]]\n"
+                            "  y: [[-0.05, 0, 0], [0.1, 0, 1]]\n  z: [[0.47, 0, 0]]\n  yaw: [[0.2, 1, 1]]\n";
+  const std::string trajectory = std::string(kSource) + "/config/trajectory_example.yaml";
+  const std::vector<std::vector<std::string>> cases = {
+      {"--workspace", "paper", "--uncertainty", "0", "--mode", "max-error", "--alpha", "0.5", "--max-boxes", "300"},
+      {"--workspace", "paper", "--uncertainty", "0.0005", "--mode", "max-error", "--alpha", "0.5", "--max-boxes",
+       "300"},
+      {"--workspace", "paper", "--uncertainty", "0.001", "--mode", "max-error", "--alpha", "0.5", "--max-boxes", "300"},
+      {"--trajectory", trajectory, "--mode", "max-error", "--alpha", "0.02"},
+      {"--trajectory", variety, "--thresholds", "1e-3,1e-3,1e-3,1e-2,1e-2,1e-2"}};
+  for (const auto& c : cases) {
+    std::vector<std::string> args = {"--robot", kRef6, "--threads", "2", "--self-check", "--json", path("sc.json")};
+    args.insert(args.end(), c.begin(), c.end());
+    std::string line;
+    for (const auto& a : c) line += a + " ";
+    SCOPED_TRACE(line);
+    const RunResult r = run(args);
+    EXPECT_TRUE(r.code == 0 || r.code == 2) << "stdout:\n" << r.out << "stderr:\n" << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    const Json j = parseJson(readFile(path("sc.json")));
+    const double points = j["stats"]["self_check_points"].num();
+    EXPECT_GE(points, j["stats"]["boxes"].num());
+    EXPECT_GT(points, 0.0);
+    EXPECT_NE(r.out.find("self-check: " + std::to_string(static_cast<long>(points)) +
+                         " points of the boxes evaluated in double, each within its box's certified bounds"),
+              std::string::npos)
+        << r.out;
+  }
+  const Json plain = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", "1,1,1,1,1,1"}, 0);
+  EXPECT_TRUE(plain["stats"]["self_check_points"].isNull());
+  const RunResult help = run({"--help"});
+  EXPECT_NE(help.out.find("--self-check"), std::string::npos);
+  EXPECT_NE(help.out.find("exit code 4"), std::string::npos);
+}
+
 TEST_F(CliTest, UnknownRobotFileKeysAreReported) {
   const std::string robot =
       writeRobot("misspelt.yaml", "tool_point_uncertanty: [0, 0, 0.001]\nbase_frame: world\nprogress_rate: 1\n");

@@ -35,6 +35,18 @@ inline IVec centredSubBox(const IVec& box, double fraction) {
   return s;
 }
 
+/// Whether g lies in [nominal - h, nominal + h] as real numbers: exact, from the rounding error of the difference
+/// (TwoSum, round-to-nearest), so that a value an ulp outside is caught.
+inline bool withinHalfWidth(double g, double nominal, double h) {
+  const auto atMost = [h](double a, double b) {  // a - b <= h exactly
+    const double s = a - b, c = -b;
+    const double bb = s - a;
+    const double err = (a - (s - bb)) + (c - bb);  // a - b = s + err exactly
+    return s < h || (s == h && err <= 0.0);
+  };
+  return atMost(g, nominal) && atMost(nominal, g);
+}
+
 inline std::array<Interval, 6> toRanges(const IVec& box) {
   std::array<Interval, 6> r;
   for (int i = 0; i < 6; ++i) r[i] = box[i];

@@ -869,7 +869,7 @@ TEST_F(TrajectoryCli, VerifiesATrajectoryAndReportsTheWitnessTime) {
   }
   EXPECT_NE(out.find("in time: ["), std::string::npos) << out;
 
-  // max-error: the argmax of every component also as a time.
+  // max-error: the argmax of every component as a parameter, a time and a pose (which attains the lower bound).
   ASSERT_EQ(run({"--robot", robot, "--trajectory", file, "--mode", "max-error", "--alpha", "0.02", "--json",
                  dir_ + "/max.json"},
                 out, err),
@@ -878,8 +878,14 @@ TEST_F(TrajectoryCli, VerifiesATrajectoryAndReportsTheWitnessTime) {
   const YAML::Node mx = YAML::LoadFile(dir_ + "/max.json");
   ASSERT_EQ(mx["max_error"]["argmax_t"].size(), 6u);
   for (int c = 0; c < 6; ++c) {
-    EXPECT_NEAR(mx["max_error"]["argmax_t"][c].as<double>(), 3.0 * mx["max_error"]["argmax"][c][0].as<double>(), 1e-12);
+    const double tc = mx["max_error"]["argmax_t"][c].as<double>();
+    EXPECT_NEAR(tc, 3.0 * mx["max_error"]["argmax_variables"][c][0].as<double>(), 1e-12);
     EXPECT_GE(mx["max_error"]["upper"][c].as<double>(), s.max[c] * (1 - 1e-9));
+    ASSERT_EQ(mx["max_error"]["argmax"][c].size(), 6u);
+    DVec pose(6);
+    for (int i = 0; i < 6; ++i) pose[i] = mx["max_error"]["argmax"][c][i].as<double>();
+    EXPECT_LT((pose - traj.trajectory->pointAtTime(tc).pose).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_GE(worstError(pose)[c], mx["max_error"]["lower"][c].as<double>() * (1 - 1e-9));
   }
 
   // --min-width takes one value per parameter.

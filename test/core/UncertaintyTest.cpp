@@ -1735,10 +1735,12 @@ double sampledMinimum(const Uncertain& u, const DVec& q, int k, std::mt19937_64&
 
 Geometry toGeometry(const std::vector<double>& v) { return Geometry(v.begin(), v.end()); }
 
-bool withinRanges(const model::RobotModel& robot, const std::vector<double>& g) {
-  if (static_cast<int>(g.size()) != robot.geometryParameterCount()) return false;
-  for (int p = 0; p < robot.geometryParameterCount(); ++p)
-    if (!robot.geometryParameterRange(p).contains(g[p])) return false;
+/// Every value of a reported geometry is admissible as given: g_p in [nominal_p - h_p, nominal_p + h_p] as real
+/// numbers (not merely in the model's ranges, which are rounded outward).
+bool admissible(const Uncertain& u, const std::vector<double>& g) {
+  if (static_cast<int>(g.size()) != u.count()) return false;
+  for (int p = 0; p < u.count(); ++p)
+    if (!test::withinHalfWidth(g[p], u.nominal[p], u.coords[p].half)) return false;
   return true;
 }
 
@@ -1759,8 +1761,8 @@ IVec cornerBox(double fraction) {
 /// Checks a max-error result against independent evaluations: converged brackets of the sampled maxima, and the
 /// lower bound attained at (argmax, argmax geometry) in double and MPFR, or, when no geometry is given (the bound
 /// holds for every geometry), at every sampled geometry including the minimising vertices.
-void checkMaxError(const verify::VerifierResult& r, const Uncertain& u, const model::RobotModel& robot, const IVec& box,
-                   const Sampled& s, double alpha, std::mt19937_64& rng) {
+void checkMaxError(const verify::VerifierResult& r, const Uncertain& u, const IVec& box, const Sampled& s, double alpha,
+                   std::mt19937_64& rng) {
   EXPECT_TRUE(r.converged) << r.message;
   ASSERT_EQ(r.max_lower.size(), 6);
   ASSERT_EQ(r.max_upper.size(), 6);
@@ -1774,7 +1776,7 @@ void checkMaxError(const verify::VerifierResult& r, const Uncertain& u, const mo
     for (int i = 0; i < 6; ++i) EXPECT_TRUE(box[i].contains(r.max_argmax[k][i])) << k;
     const std::vector<double>& g = r.max_argmax_geometry[k];
     if (!g.empty()) {
-      ASSERT_TRUE(withinRanges(robot, g)) << k;
+      ASSERT_TRUE(admissible(u, g)) << k;
       EXPECT_GE(u.error(toGeometry(g), r.max_argmax[k])[k], r.max_lower[k] * (1 - 1e-9)) << k;
       EXPECT_TRUE(mpGreaterEqual(mpfrWorstError(u.at(toGeometry(g)), r.max_argmax[k])[k], r.max_lower[k])) << k;
     } else {
@@ -1785,8 +1787,7 @@ void checkMaxError(const verify::VerifierResult& r, const Uncertain& u, const mo
 
 /// Checks an uncertainty-sensitive pose independently: inside the box, its failing geometry admissible and above
 /// the threshold (double and MPFR, and at least the certified failing_lower), its passing geometry (if any) below.
-void checkSensitivePose(const verify::SensitivePose& sp, const Uncertain& u, const model::RobotModel& robot,
-                        const IVec& box, const DVec& thresholds) {
+void checkSensitivePose(const verify::SensitivePose& sp, const Uncertain& u, const IVec& box, const DVec& thresholds) {
   const int k = sp.component;
   ASSERT_GE(k, 0);
   ASSERT_LT(k, 6);
@@ -1797,12 +1798,12 @@ void checkSensitivePose(const verify::SensitivePose& sp, const Uncertain& u, con
     EXPECT_TRUE(sp.pose[i].contains(sp.point[i]));
     EXPECT_TRUE(sp.region[i].contains(sp.point[i]));
   }
-  ASSERT_TRUE(withinRanges(robot, sp.failing_geometry));
+  ASSERT_TRUE(admissible(u, sp.failing_geometry));
   EXPECT_GT(sp.failing_lower, thresholds[k]);
   EXPECT_GT(u.error(toGeometry(sp.failing_geometry), sp.point)[k], thresholds[k]) << where(sp.point);
   EXPECT_TRUE(mpGreaterEqual(mpfrWorstError(u.at(toGeometry(sp.failing_geometry)), sp.point)[k], sp.failing_lower));
   if (!sp.passing_geometry.empty()) {
-    ASSERT_TRUE(withinRanges(robot, sp.passing_geometry));
+    ASSERT_TRUE(admissible(u, sp.passing_geometry));
     const DVec fp = u.error(toGeometry(sp.passing_geometry), sp.point);
     EXPECT_LE(fp[k], thresholds[k]) << where(sp.point);
     EXPECT_TRUE(mpLessEqual(mpfrWorstError(u.at(toGeometry(sp.passing_geometry)), sp.point)[k], sp.passing_upper));
@@ -1857,7 +1858,7 @@ void checkIssue5Answers(bool decomposed) {
     o.mode = verify::Mode::MaxError;
     o.alpha = h <= 0.0005 ? 0.02 : 0.1;
     o.time_limit_s = 30.0;  // a safety net: both converge in < 0.2 s
-    checkMaxError(verify::Verifier::run(robot, ws, o), u, robot, box, s, o.alpha, rng);
+    checkMaxError(verify::Verifier::run(robot, ws, o), u, box, s, o.alpha, rng);
 
     // ---- verify mode: 10% above the sampled maxima (over poses and geometries) is SAFE ----
     verify::VerifierOptions v;
@@ -1880,7 +1881,7 @@ void checkIssue5Answers(bool decomposed) {
       EXPECT_EQ(toString(below.reason), "uncertainty_sensitive");
       ASSERT_GE(below.sensitive_count, 1u);
       ASSERT_FALSE(below.sensitive.empty());
-      checkSensitivePose(below.sensitive.front(), u, robot, box, v.thresholds);
+      checkSensitivePose(below.sensitive.front(), u, box, v.thresholds);
     }
     // Which one our own sampling says. UNSAFE needs a pose where f_k exceeds for every geometry, certified by
     // errorAtPose whose lower end is below the true minimum over the geometries by a second-order amount (measured
@@ -1926,7 +1927,7 @@ void checkIssue5Answers(bool decomposed) {
     EXPECT_GE(sensitive.sensitive_count, sensitive.sensitive.size());
     EXPECT_GT(sensitive.sensitive.size(), 1u);
     for (std::size_t i = 0; i < sensitive.sensitive.size() && i < 25; ++i) {
-      checkSensitivePose(sensitive.sensitive[i], u, robot, box, v.thresholds);
+      checkSensitivePose(sensitive.sensitive[i], u, box, v.thresholds);
     }
     EXPECT_NEAR(sensitive.stats.safe_fraction + sensitive.stats.unsafe_fraction + sensitive.stats.undecided_fraction,
                 1.0, 1e-9);
@@ -1939,6 +1940,82 @@ TEST(UncertaintyVerifier, Issue5MaxErrorAndVerdictsOnTheReferenceRobot) { checkI
 // VerifierOptions::decompose_geometry: the same answers (brackets that hold and close, SAFE 10% above the sampled
 // maxima, UNSAFE or uncertainty_sensitive as the sampling says 5% below, witnesses for every geometry 30% below).
 TEST(UncertaintyVerifier, DecomposedGeometryFormKeepsTheIssue5Answers) { checkIssue5Answers(true); }
+
+// Verify mode without stopping at the first witness and without pre-sampling, on a box where every pose exceeds every
+// threshold for every admissible geometry (half the smallest nominal error at its corners and centre): the root box's
+// enclosure certifies that at once (ErrorBounds::lower). The verdict must be UNSAFE with a witness in the box that
+// exceeds for every sampled geometry, not SAFE with the volume counted as unsafe.
+TEST(UncertaintyVerifier, BoxCertifiedUnsafeWithoutPresamplingGivesAWitness) {
+  const Uncertain u(withUncertainty(0.0005));
+  const model::GoughPlatform robot(u.geometry);
+  const IVec box = cornerBox(1.0 / 256.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  DVec smallest = DVec::Constant(6, std::numeric_limits<double>::infinity());
+  for (int corner = 0; corner <= 64; ++corner) {
+    DVec q(6);
+    for (int i = 0; i < 6; ++i)
+      q[i] = corner == 64 ? box[i].mid() : ((corner >> i) & 1 ? box[i].upper() : box[i].lower());
+    smallest = smallest.cwiseMin(u.error(u.nominal, q));
+  }
+  std::mt19937_64 rng(1201);
+  for (const int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    verify::VerifierOptions o;
+    o.thresholds = 0.5 * smallest;
+    o.presample_points = 0;
+    o.stop_at_first_witness = false;
+    o.threads = threads;
+    const auto r = verify::Verifier::run(robot, ws, o);
+    checkWitness(r, u, box, o.thresholds, rng);
+    EXPECT_GT(r.stats.unsafe_fraction, 0.0);
+    EXPECT_NEAR(r.stats.safe_fraction + r.stats.unsafe_fraction + r.stats.undecided_fraction, 1.0, 1e-9);
+  }
+}
+
+// The geometries a result reports (max-error argmax geometries; sensitive poses' failing and passing geometries) lie
+// in the admissible set as given, nominal +- h as real numbers (the model's ranges are rounded outward, their ends an
+// ulp outside), and each max-error lower bound is attained there: a plain double evaluation at (argmax, geometry)
+// reproduces it to round-off.
+TEST(UncertaintyVerifier, ReportedGeometriesAreAdmissibleExactlyAndAttainTheirBounds) {
+  const Uncertain u(withUncertainty(0.0005));
+  const model::GoughPlatform robot(u.geometry);
+  const IVec box = cornerBox(1.0 / 16.0);
+  const domain::Workspace ws = domain::Workspace::fromRanges(test::toRanges(box));
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.alpha = 0.02;
+  o.time_limit_s = 30.0;  // a safety net
+  const auto r = verify::Verifier::run(robot, ws, o);
+  ASSERT_EQ(r.max_argmax_geometry.size(), 6u);
+  int named = 0;
+  for (int k = 0; k < 6; ++k) {
+    SCOPED_TRACE("component " + std::to_string(k));
+    const std::vector<double>& g = r.max_argmax_geometry[k];
+    if (g.empty()) continue;  // (the bound holds for every geometry)
+    ++named;
+    ASSERT_EQ(static_cast<int>(g.size()), u.count());
+    for (int p = 0; p < u.count(); ++p) {
+      EXPECT_TRUE(test::withinHalfWidth(g[p], u.nominal[p], u.coords[p].half))
+          << robot.geometryParameterName(p) << " = " << g[p] << " outside " << u.nominal[p] << " +- "
+          << u.coords[p].half;
+    }
+    const double value = u.error(g, r.max_argmax[k])[k];
+    EXPECT_GE(value, r.max_lower[k] * (1.0 - 1e-12));
+    EXPECT_LE(value, r.max_lower[k] * (1.0 + 1e-9));
+  }
+  EXPECT_GE(named, 1);
+
+  verify::VerifierOptions v;
+  v.thresholds = 0.95 * r.max_lower;
+  v.stop_at_first_witness = false;
+  v.max_boxes = 300;
+  const auto sensitive = verify::Verifier::run(robot, ws, v);
+  ASSERT_GE(sensitive.sensitive.size(), 1u) << sensitive.message;
+  for (const verify::SensitivePose& s : sensitive.sensitive) {
+    EXPECT_TRUE(admissible(u, s.failing_geometry));
+    EXPECT_TRUE(s.passing_geometry.empty() || admissible(u, s.passing_geometry));
+  }
+}
 
 // =====================================================================================================================
 // 5. Strategy (b): bisecting the geometry
@@ -2180,7 +2257,7 @@ TEST(UncertaintyVerifier, PresamplingCertifiesTheGridsWorstPointsOverEveryGeomet
   EXPECT_EQ(r.stats.boxes, 0u);
   ASSERT_GE(r.sensitive_count, 1u);
   ASSERT_FALSE(r.sensitive.empty());
-  checkSensitivePose(r.sensitive.front(), u, robot, ws.initialBox(), o.thresholds);
+  checkSensitivePose(r.sensitive.front(), u, ws.initialBox(), o.thresholds);
 }
 
 TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
@@ -2235,7 +2312,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   m.time_limit_s = 20.0;
   const auto r = verify::Verifier::run(robot, ws, m);
   EXPECT_GT(r.stats.geometry_splits, 0u);
-  checkMaxError(r, u, robot, box, s, m.alpha, rng);
+  checkMaxError(r, u, box, s, m.alpha, rng);
 }
 
 // =====================================================================================================================

@@ -33,6 +33,14 @@ class SingularMatrix : public Error {
   explicit SingularMatrix(const std::string& what) : Error(what) {}
 };
 
+/// A defect of the library itself, not of its input: e.g. the verifier's self-check (VerifierOptions::self_check)
+/// found a point whose error, evaluated in plain double, lies outside the bounds an enclosure certified for its box.
+/// The message names what failed and where.
+class InternalError : public Error {
+ public:
+  explicit InternalError(const std::string& what) : Error(what) {}
+};
+
 /// A file or document could not be read or has the wrong structure (the message names the file and the key).
 class ParseError : public InvalidArgument {
  public:

@@ -1,6 +1,11 @@
 // Reports of a verifier run: JSON (hand-written, strict RFC 8259), YAML (block style, same keys and values) and a
 // human summary. ROS-free; used by the command-line tool pkm_verify.
 //
+// Poses (witness, max_error.argmax, singular from_pose / to_pose, sensitive pose) are in the robot's base frame, also
+// for a domain given in another frame (TransformedDomain): the midpoints of the verifier's certified pose enclosures.
+// The points in the domain's own variables (witness_variables, max_error.argmax_variables, singular from / to,
+// sensitive point, the boxes) stay in that frame.
+//
 // Numbers are printed with up to 17 significant digits: the shortest of %.15g, %.16g, %.17g that reads back to the
 // same double (so 1e-4 prints as 1e-4, and nothing is lost). +-inf and NaN are never printed as bare tokens: JSON
 // writes null, YAML writes .inf / -.inf / .nan (standard YAML floats).
@@ -25,13 +30,15 @@
 //   ones, at most max_listed_boxes: [{point (domain variables), pose ([6], midpoints of its enclosure), region (the
 //   search box [[lo, hi] x variables]), component, component_name, failing_lower, failing_geometry ({parameter name:
 //   value}), passing_geometry ({name: value} or null), passing_upper (or null), passes_all, t and region_t
-//   (trajectories: s; else null)}]), max_error: {lower: [6], upper: [6], converged, argmax: [[...] per component or
-//   null]
-//               (trajectories: also argmax_t, the time of every argmax in s), argmax_geometry ({parameter name:
-//               value} per component, the geometry attaining lower at argmax; null entries where the bound holds
-//               for every geometry; null without geometric uncertainty)} in max-error mode,
+//   (trajectories: s; else null)}]), max_error: {lower: [6], upper: [6], converged, argmax: [the pose [x, y, z,
+//               roll, pitch, yaw] attaining lower, per component, or null], argmax_variables: [the same points in the
+//               domain's variables, or null] (trajectories: also argmax_t, the time of every argmax in s),
+//               argmax_geometry ({parameter name: value} per component, the geometry attaining lower at argmax; null
+//               entries where the bound holds for every geometry; null without geometric uncertainty)} in max-error
+//               mode,
 //   stats: {boxes, seconds, max_depth, safe_fraction, unsafe_fraction, undecided_fraction, outside_fraction,
-//           threads, geometry_switches, geometry_splits, face_switches, face_boxes, unenclosed_boxes},
+//           threads, geometry_switches, geometry_splits, face_switches, face_boxes, unenclosed_boxes,
+//           self_check_points (with the self-check: the points evaluated, each within its box's bounds; else null)},
 //   undecided_boxes: {count, recorded, listed, boxes: [[[lo, hi] x variables] ...], upper: [[6] ...],
 //                     geometry: [{parameter name: [lo, hi]} or null (every admissible geometry), one per listed box]
 //                     or null without geometric uncertainty},
@@ -71,7 +78,8 @@ struct RunInfo {
   /// Names of the model's uncertain geometry parameters (model::RobotModel::geometryParameterName), in the order of
   /// every geometry vector of the result; empty without geometric uncertainty.
   std::vector<std::string> geometry_parameters;
-  /// The admissible range of every geometry parameter (model::RobotModel::geometryParameterRange), same order.
+  /// The range of every geometry parameter (model::RobotModel::geometryParameterRange: the admissible values, rounded
+  /// outward), same order.
   std::vector<Interval> geometry_ranges;
   int exit_code = -1;                  ///< the process exit code, if known (-1: not written)
   std::size_t max_listed_boxes = 100;  ///< undecided boxes listed in the reports

@@ -1,5 +1,6 @@
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -403,6 +404,23 @@ Interval GoughPlatform::geometryParameterRange(int p) const {
 double GoughPlatform::geometryParameterCentre(int p) const {
   if (p < 0 || p >= geometryParameterCount()) return RobotModel::geometryParameterCentre(p);
   return slot(params_[p], true).lower();
+}
+
+Interval GoughPlatform::geometryParameterAdmissible(int p) const {
+  if (p < 0 || p >= geometryParameterCount()) return RobotModel::geometryParameterAdmissible(p);
+  const Parameter& q = params_[p];
+  const double value = q.kind == Parameter::Base       ? geometry_.base_anchors[q.leg][q.coord]
+                       : q.kind == Parameter::Platform ? geometry_.platform_anchors[q.leg][q.coord]
+                                                       : geometry_.tool_point[q.coord];
+  const double half = q.kind == Parameter::Base       ? geometry_.base_anchor_halfwidth[q.leg][q.coord]
+                      : q.kind == Parameter::Platform ? geometry_.platform_anchor_halfwidth[q.leg][q.coord]
+                                                      : geometry_.tool_point_halfwidth[q.coord];
+  const Interval& range = slot(q, false);
+  // (The value itself is always admissible, also where h is below its ulp. A restricted model describes its range
+  // by a covering centre and half-width: the range bounds the set there.)
+  const double lo = std::min(value, interval::rounding::subUp(value, half));
+  const double hi = std::max(value, interval::rounding::addDown(value, half));
+  return Interval(std::max(range.lower(), lo), std::min(range.upper(), hi));
 }
 
 IMat GoughPlatform::inverseJacobianAtGeometryCentre(const IVec& pose) const {

@@ -16,6 +16,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "SelfCheck.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
@@ -78,7 +79,10 @@ class Run {
       : model_(model),
         domain_(domain),
         options_(options),
-        method_(enclosure::makeEnclosure(options.method)),
+        method_(options.enclosure
+                    ? options.enclosure
+                    : std::shared_ptr<const enclosure::ErrorEnclosure>(enclosure::makeEnclosure(options.method))),
+        selfCheck_(domain, method_->name()),
         n_(model.dof()),
         m_(domain.variables()),
         initial_(domain.initialBox()),
@@ -100,7 +104,10 @@ class Run {
       undecidedMax_[k] = std::make_unique<AtomicDouble>(0.0);
     }
     hasThresholds_ = options.thresholds.size() == n_;
-    for (int p = 0; p < params_; ++p) geometryRange_.push_back(model.geometryParameterRange(p));
+    for (int p = 0; p < params_; ++p) {
+      geometryRange_.push_back(model.geometryParameterRange(p));
+      admissible_.push_back(model.geometryParameterAdmissible(p));
+    }
     int varying = 0;
     for (int i = 0; i < m_; ++i) varying += initWidth_[i] > 0.0 ? 1 : 0;
     // (Default: half the varying box variables, at least 2. Session 23, paper workspace at +-1 mm, 2 threads: with
@@ -183,6 +190,7 @@ class Run {
     maybeReportProgress();
     if (options_.monotonicity && where == domain::Containment::Inside)
       tightenByGradient(model, box, in, bounds, active);
+    if (options_.self_check) selfCheck(model, box, active, bounds, track);
     if (where == domain::Containment::Inside && !singular_.load(std::memory_order_relaxed)) {
       bool unbounded = false;
       for (int k = 0; k < n_; ++k) unbounded = unbounded || ((active >> k) & 1u && !(bounds.upper[k] < kInf));
@@ -204,10 +212,12 @@ class Run {
         if (options_.max_recorded_safe_boxes > 0 && !track.geometry) recordSafe(box, bounds.upper);
         return;
       }
-      // (Every pose of the box exceeds for every geometry: only when the box covers every admissible geometry.)
+      // Every pose of the box exceeds for every geometry (only when the box covers every admissible geometry): its
+      // centre is a witness, so the verdict is UNSAFE whatever else the search finds.
       if (!options_.stop_at_first_witness && where == domain::Containment::Inside && !track.geometry) {
         for (int k = 0; k < n_; ++k) {
           if ((active & (1u << k)) && bounds.lower[k] > options_.thresholds[k]) {
+            witnessInBox(box, k, bounds.lower[k]);
             unsafeVol_.add(vol);
             return;
           }
@@ -448,6 +458,24 @@ class Run {
     }
   }
 
+  /// VerifierOptions::self_check: the box's final bounds (components in `active`) against point evaluations over the
+  /// box and the geometry ranges its track was enclosed with. @throws InternalError (SelfCheck::check), after asking
+  /// the other workers to stop.
+  void selfCheck(const model::RobotModel& model, const IVec& box, unsigned active, const enclosure::ErrorBounds& bounds,
+                 const Track& track) {
+    const std::vector<Interval> none;
+    const std::vector<Interval>& ranges = !model.hasGeometryUncertainty() || params_ == 0
+                                              ? none
+                                              : (track.geometry ? track.geometry->ranges : geometryRange_);
+    try {
+      selfCheckPoints_.fetch_add(static_cast<std::size_t>(selfCheck_.check(model, ranges, box, active, bounds)),
+                                 std::memory_order_relaxed);
+    } catch (const InternalError&) {
+      requestStop(Stop::Cancelled);
+      throw;
+    }
+  }
+
   /// Stores both children for the next round unless the frontier is full (then the caller goes on depth-first).
   bool deferToNextRound(const IVec& left, const IVec& right, int depth, unsigned active, const Track& first,
                         const Track& second) {
@@ -627,20 +655,7 @@ class Run {
       for (int k = 0; k < n_; ++k) {
         if (!((active >> k) & 1u)) continue;
         if (f[k].lower() > options_.thresholds[k]) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          if (!haveWitness_) {
-            haveWitness_ = true;
-            result_.witness = t;
-            result_.witness_pose = pose;
-            result_.witness_component = k;
-            result_.witness_lower_bound = f[k].lower();
-            result_.witness_error_lower = DVec(n_);
-            IVec all = f;
-            const unsigned every = (1u << n_) - 1u;
-            if ((active & every) != every && !enclosure::errorAtPose(model_, pose, all)) all = f;
-            for (int j = 0; j < n_; ++j) result_.witness_error_lower[j] = all[j].lower();
-          }
-          if (options_.stop_at_first_witness) requestStop(Stop::Witness);
+          recordWitness(t, pose, k, f[k].lower(), f, active);
           return;
         }
       }
@@ -684,6 +699,43 @@ class Run {
         }
       }
     }
+  }
+
+  /// Verify mode: records the certified witness t (pose enclosure `pose`; component k's worst error >= `lower` there
+  /// for every admissible geometry, above its threshold) unless one is recorded already, and stops the search if asked
+  /// to stop at the first witness. `f`: certified errors at t for the components in `active` (the others are
+  /// evaluated here for the report).
+  void recordWitness(const DVec& t, const IVec& pose, int k, double lower, const IVec& f, unsigned active) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!haveWitness_.load(std::memory_order_relaxed)) {  // (under the lock: the writer's own flag)
+        result_.witness = t;
+        result_.witness_pose = pose;
+        result_.witness_component = k;
+        result_.witness_lower_bound = lower;
+        result_.witness_error_lower = DVec(n_);
+        IVec all = f;
+        const unsigned every = (1u << n_) - 1u;
+        if ((active & every) != every && !enclosure::errorAtPose(model_, pose, all)) all = f;
+        for (int j = 0; j < n_; ++j) result_.witness_error_lower[j] = all[j].lower();
+        result_.witness_error_lower[k] = std::max(result_.witness_error_lower[k], lower);
+        haveWitness_.store(true, std::memory_order_release);  // (the witness data above is complete)
+      }
+    }
+    if (options_.stop_at_first_witness) requestStop(Stop::Witness);
+  }
+
+  /// Verify mode: a box inside the domain, searched for every admissible geometry, whose enclosure certifies that
+  /// component k's error exceeds its threshold at every pose (ErrorBounds::lower[k] = `lower`). Its centre becomes
+  /// the witness (unless one is recorded already), with the larger of the box's bound (it holds at every pose of the
+  /// box) and the certified point evaluation's there.
+  void witnessInBox(const IVec& box, int k, double lower) {
+    if (haveWitness()) return;
+    const DVec c = domain::centreOf(box);
+    const IVec pose = domain_.poseAt(c);
+    IVec f;
+    if (!enclosure::errorAtPose(model_, pose, f)) f = IVec::Constant(n_, Interval(0.0));
+    recordWitness(c, pose, k, std::max(lower, f[k].lower()), f, ~0u);
   }
 
   /// A box whose enclosure is unbounded may contain a singular pose. det J^-1 is evaluated in double (at the
@@ -746,8 +798,9 @@ class Run {
       std::call_once(nominalOnce_, [&] {
         std::vector<Interval> point(static_cast<std::size_t>(params_));
         nominalValues_.resize(static_cast<std::size_t>(params_));
-        for (int p = 0; p < params_; ++p) {
-          nominalValues_[p] = model_.geometryParameterCentre(p);
+        for (int p = 0; p < params_; ++p) {  // (the centre, within the admissible values: it is reported)
+          nominalValues_[p] =
+              std::min(std::max(model_.geometryParameterCentre(p), admissible_[p].lower()), admissible_[p].upper());
           point[p] = Interval(nominalValues_[p]);
         }
         nominal_ = model_.restrictGeometry(point);
@@ -771,7 +824,7 @@ class Run {
     }
     singular_.store(true);
     // (Max-error mode: the same evaluations raise the lower bounds.)
-    if (!haveWitness_) witnessNearSingularity(pos, neg, box);
+    if (!haveWitness()) witnessNearSingularity(pos, neg, box);
     if (options_.mode == Mode::MaxError || options_.stop_at_first_witness) requestStop(Stop::Singular);
   }
 
@@ -792,7 +845,7 @@ class Run {
   /// so this succeeds unless the thresholds are beyond what double precision can certify.
   void witnessNearSingularity(DVec a, DVec b, const IVec& region) {
     const std::vector<DVec> kept = towardsSignChange(a, b);
-    for (auto it = kept.rbegin(); it != kept.rend() && !haveWitness_; ++it) {
+    for (auto it = kept.rbegin(); it != kept.rend() && !haveWitness(); ++it) {
       evaluatePoint(*it, thinBox(*it), region, true, ~0u);
     }
   }
@@ -866,14 +919,15 @@ class Run {
     }
   }
 
-  /// The model at the vertex of the geometry box that the sensitivities of component k point to (direction +1:
-  /// raising its error, -1: lowering it); `values` receives the vertex.
+  /// The model at the vertex of the admissible geometry box (model::RobotModel::geometryParameterAdmissible, so that
+  /// the geometry reported with what is certified there is one the user admits) that the sensitivities of component k
+  /// point to (direction +1: raising its error, -1: lowering it); `values` receives the vertex.
   std::unique_ptr<model::RobotModel> vertexModel(const GMat& sensitivity, int k, double direction,
                                                  std::vector<double>& values) const {
     std::vector<Interval> point(static_cast<std::size_t>(params_));
     values.resize(static_cast<std::size_t>(params_));
     for (int p = 0; p < params_; ++p) {
-      const Interval& r = geometryRange_[p];
+      const Interval& r = admissible_[p];
       values[p] = sensitivity(k, p) * direction >= 0.0 ? r.upper() : r.lower();
       point[p] = Interval(values[p]);
     }
@@ -914,7 +968,7 @@ class Run {
         for (int k = 0; k < n_; ++k) {
           if (f[k] > options_.thresholds[k]) {
             evaluatePoint(t, thin, thin, false);
-            if (haveWitness_ && options_.stop_at_first_witness) return;
+            if (haveWitness() && options_.stop_at_first_witness) return;
             evaluated = true;
             break;
           }
@@ -936,7 +990,7 @@ class Run {
         for (int j = 0; j < k && !seen; ++j) seen = best[j] >= 0.0 && bestPoint[j] == bestPoint[k];
         if (seen) continue;
         evaluatePoint(bestPoint[k], thinBox(bestPoint[k]), thinBox(bestPoint[k]), false);
-        if (haveWitness_ && options_.stop_at_first_witness) return;
+        if (haveWitness() && options_.stop_at_first_witness) return;
       }
     }
     if (options_.mode == Mode::MaxError) {
@@ -953,6 +1007,9 @@ class Run {
   }
 
   // ---- bookkeeping -------------------------------------------------------------------------------------------------
+  /// A certified witness has been recorded (its data in result_ is complete and visible to the caller).
+  bool haveWitness() const { return haveWitness_.load(std::memory_order_acquire); }
+
   /// The value component k's upper bound must reach for a box to be closed for it: the threshold (verify) or the
   /// current lower bound plus the tolerance (max-error).
   double target(int k) const {
@@ -1043,6 +1100,7 @@ class Run {
     s.face_boxes = faceBoxes_.load();
     s.unenclosed_boxes = unenclosed_.load();
     s.geometry_splits = geometrySplits_.load();
+    s.self_check_points = selfCheckPoints_.load();
     return s;
   }
 
@@ -1079,7 +1137,7 @@ class Run {
     if (stop == Stop::Cancelled) reason = UndecidedReason::Cancelled;
     std::ostringstream msg;
     if (options_.mode == Mode::Verify) {
-      if (haveWitness_) {
+      if (haveWitness()) {
         r.verdict = Verdict::Unsafe;
         r.reason = UndecidedReason::None;
         msg << "UNSAFE: " << model_.componentName(r.witness_component) << " error >= " << r.witness_lower_bound
@@ -1120,6 +1178,9 @@ class Run {
       r.max_lower = DVec(n_);
       r.max_upper = DVec(n_);
       r.max_argmax = argmax_;
+      r.max_argmax_pose.assign(argmax_.size(), IVec());
+      for (std::size_t k = 0; k < argmax_.size(); ++k)
+        if (argmax_[k].size() == m_) r.max_argmax_pose[k] = domain_.poseAt(argmax_[k]);
       if (params_ > 0) r.max_argmax_geometry = argmaxGeometry_;
       r.converged = r.undecided_box_count == 0;
       for (int k = 0; k < n_; ++k) {
@@ -1183,7 +1244,8 @@ class Run {
   const model::RobotModel& model_;
   const domain::Domain& domain_;
   const VerifierOptions& options_;
-  std::unique_ptr<enclosure::ErrorEnclosure> method_;
+  std::shared_ptr<const enclosure::ErrorEnclosure> method_;
+  const SelfCheck selfCheck_;
   const int n_, m_;
   const IVec initial_;
   DVec minWidth_, initWidth_;
@@ -1209,6 +1271,7 @@ class Run {
   std::atomic<int> stop_{0};
   std::atomic<std::size_t> boxes_{0};
   std::atomic<std::size_t> unenclosed_{0};
+  std::atomic<std::size_t> selfCheckPoints_{0};
   std::atomic<std::size_t> gradientHits_{0};
   std::atomic<int> maxDepth_{0};
   std::atomic<Clock::rep> nextProgress_{0};
@@ -1218,13 +1281,16 @@ class Run {
   std::vector<std::vector<double>> argmaxGeometry_;
   const int params_;                     ///< uncertain geometry parameters of the model
   std::vector<Interval> geometryRange_;  ///< their initial ranges
+  std::vector<Interval> admissible_;     ///< their admissible values (inside the ranges; reported points lie in them)
   int stallLevels_ = 2;
   static constexpr double kProgress = 0.5;            ///< the excess must drop below this share of its reference
   static constexpr int kMaxGeometrySplits = 12;       ///< geometry bisections per search path at most
   static constexpr double kGeometryMinFraction = 64;  ///< geometry ranges are not split below 1/64 of the initial
   std::atomic<std::size_t> geometrySwitches_{0}, geometrySplits_{0}, faceSwitches_{0}, faceBoxes_{0};
   std::mutex mutex_, progressMutex_;
-  bool haveWitness_ = false;
+  /// A certified witness is in result_ (verify mode). Set once, under mutex_, after the witness data (release); read
+  /// anywhere with haveWitness() (acquire), which then also sees that data.
+  std::atomic<bool> haveWitness_{false};
   std::atomic<bool> singular_{false};         ///< result_.singular is set
   std::atomic<bool> nominalSingular_{false};  ///< verify mode: sensitiveNearSingularity() was tried
   /// The model at the nominal geometry (every parameter at its centre; built by trySingular() when first needed).

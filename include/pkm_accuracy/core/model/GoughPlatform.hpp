@@ -36,6 +36,9 @@ class GoughPlatform final : public RobotModel {
   std::string geometryParameterName(int p) const override;
   Interval geometryParameterRange(int p) const override;
   double geometryParameterCentre(int p) const override;
+  /// [value - h, value + h] of the plain description (GoughGeometry: the coordinate and its half-width) rounded inward
+  /// (the value itself when h is below its ulp), within the range.
+  Interval geometryParameterAdmissible(int p) const override;
   int toolPointCoordinate(int p) const override;
   IMat inverseJacobianAtGeometryCentre(const IVec& pose) const override;
   void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override;

@@ -60,6 +60,12 @@ class RobotModel {
   virtual Interval geometryParameterRange(int p) const;
   /// The value of parameter p that inverseJacobianAtGeometryCentre() uses (a point of the range, near its middle).
   virtual double geometryParameterCentre(int p) const;
+  /// Doubles that parameter p may take as the geometry was given (nominal value +- half-width as real numbers): an
+  /// interval of doubles inside that set (rounded inward: at most an ulp narrower at each end than the largest one),
+  /// within geometryParameterRange(p) (which is rounded outward, so its ends may lie an ulp outside the set).
+  /// Geometry points that results report are taken in it. Default: the range.
+  /// @throws InvalidArgument if p is out of range.
+  virtual Interval geometryParameterAdmissible(int p) const { return geometryParameterRange(p); }
   /// The coordinate (0: x, 1: y, 2: z, platform frame) of the tool point c that parameter p is, or -1 if p is not
   /// one. Moving the error reference point only changes the error of the point, not the motion: for two geometries
   /// g, g' that differ in c alone, J(X, g) = T(R(X) (c - c')) J(X, g') with T(v) = [[I, -[v]x], [0, I]] (6 x 6,

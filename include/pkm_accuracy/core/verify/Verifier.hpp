@@ -19,6 +19,7 @@ class Verifier {
   /// Runs one job. Algorithmic outcomes are in the result; bad input throws.
   /// @throws InvalidArgument for bad options (thresholds missing/non-positive/NaN in Verify mode, wrong sizes,
   ///         alpha <= 0, unknown method, negative budgets or widths), naming the field.
+  /// @throws InternalError when the self-check (VerifierOptions::self_check) finds a point outside its box's bounds.
   static VerifierResult run(const model::RobotModel& model, const domain::Domain& domain,
                             const VerifierOptions& options);
 

@@ -5,11 +5,15 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "pkm_accuracy/core/Types.hpp"
 
 namespace pkm_accuracy {
+namespace enclosure {
+class ErrorEnclosure;
+}
 namespace verify {
 
 enum class Mode {
@@ -105,6 +109,18 @@ struct VerifierOptions {
   bool decompose_geometry = true;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;
+  /// Self-check of the enclosures while the search runs: for every box enclosed, a few points of the box (its centre,
+  /// a vertex, random interior points; deterministic, seeded by the box), each with a point of the box's geometry
+  /// ranges when the geometry is uncertain (vertices, and one interior point), are evaluated in plain double (the
+  /// worst error sum_j |J_kj| e_j with J the inverse of J^-1 at that pose and geometry). A value above a component's
+  /// certified upper bound, or below its certified lower bound, by more than round-off (relative 1e-9, plus 1e-14
+  /// times the condition number of J^-1 there) stops the run: Verifier::run throws InternalError naming the enclosure
+  /// method, the box, the point, the geometry and the values. Statistics::self_check_points counts the points. Off by
+  /// default (it adds about four point evaluations per box).
+  bool self_check = false;
+  /// The enclosure to use instead of the registry's `method` (null: `method`), e.g. a method under test. It must be
+  /// safe for concurrent const use.
+  std::shared_ptr<const enclosure::ErrorEnclosure> enclosure;
 };
 
 }  // namespace verify

@@ -50,6 +50,8 @@ struct Statistics {
   /// Boxes split without being enclosed, because the enclosure of the box they came from predicted that they could
   /// not be decided (VerifierOptions::skip_hopeless; not counted in `boxes`).
   std::size_t unenclosed_boxes = 0;
+  /// Points evaluated by the self-check (VerifierOptions::self_check; 0 without it), every one within its box's bounds.
+  std::size_t self_check_points = 0;
 };
 
 struct Progress {
@@ -114,8 +116,13 @@ struct VerifierResult {
   DVec max_lower;                ///< attained: f_k(max_argmax[k]) >= max_lower[k]
   DVec max_upper;                ///< max over the domain of f_k <= max_upper[k] (+inf if unbounded)
   std::vector<DVec> max_argmax;  ///< per component: the variables of a point attaining max_lower
+  /// Per component: enclosure of the pose at max_argmax (x, y, z, roll, pitch, yaw, as the model sees it: in the base
+  /// frame for a domain given in another frame, like witness_pose); empty where max_argmax is.
+  std::vector<IVec> max_argmax_pose;
   /// With uncertain geometry, per component: the geometry (one value per parameter) attaining max_lower at
-  /// max_argmax (empty when the bound holds for every geometry).
+  /// max_argmax (empty when the bound holds for every geometry). Its values, like every geometry a result reports,
+  /// are admissible as the geometry was given (model::RobotModel::geometryParameterAdmissible: nominal +- half-width,
+  /// not the model's outward-rounded ranges).
   std::vector<std::vector<double>> max_argmax_geometry;
   bool converged = false;  ///< MaxError: upper - lower <= alpha for every component
 
