@@ -1,5 +1,7 @@
 #include "pkm_accuracy/ros/AccuracyCheckerNode.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -208,6 +210,8 @@ bool AccuracyCheckerNode::start(std::string& error) {
   boxes_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("boxes", 1, /*latch=*/true);
   describe_srv_ = pnh_.advertiseService("describe", &AccuracyCheckerNode::onDescribe, this);
   cancel_srv_ = pnh_.advertiseService("cancel", &AccuracyCheckerNode::onCancel, this);
+  idle_trim_timer_ =
+      pnh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { trimWhenIdle(); });
 
   ros::NodeHandle verify_nh(nh_);
   verify_nh.setCallbackQueue(&verify_queue_);
@@ -319,6 +323,18 @@ std::shared_ptr<AccuracyCheckerNode::Job> AccuracyCheckerNode::admit(WorkspaceOu
 void AccuracyCheckerNode::finish(const std::shared_ptr<Job>& job) {
   std::lock_guard<std::mutex> lock(jobs_mutex_);
   jobs_.erase(job->id);
+  trim_pending_ = true;
+}
+
+void AccuracyCheckerNode::trimWhenIdle() {
+  {
+    std::lock_guard<std::mutex> lock(jobs_mutex_);
+    if (!trim_pending_ || !jobs_.empty()) return;
+    trim_pending_ = false;
+  }
+  // (glibc keeps freed memory in its arenas, one per thread that allocated; the job's request, domain and search
+  // are freed by now, and the answer was sent on return from the handler.)
+  malloc_trim(0);
 }
 
 bool AccuracyCheckerNode::resolveFrame(WorkspaceQuery& query, std::string& error) {

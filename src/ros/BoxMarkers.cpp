@@ -288,16 +288,29 @@ visualization_msgs::MarkerArray makeTrajectoryMarkers(const WorkspaceQuery& q, c
   const Placement placement(q);
   array.markers.push_back(deleteAll(base_frame, stamp));
 
-  // The path: pieces [ta, tb] of at most 1/kTrajectoryPieces of the span, at least one per segment (query frame).
+  // The path: pieces [ta, tb] of at most 1/kTrajectoryPieces of the span, at least one per segment (query frame),
+  // unless the trajectory has more than kMaxPathSegments segments: then pieces of 1/kMaxPathSegments of the span
+  // whatever the segments (a chord may then cut a corner of the path; the marker stays small, ~1 MB, where one piece
+  // per segment of a 10^6-waypoint trajectory took ~80 MB, kept by the latched topic).
   const std::unique_ptr<domain::PiecewiseTrajectory> trajectory = toTrajectory(q.trajectory);
   const std::vector<double>& times = trajectory->times();
   const double span = trajectory->endTime() - trajectory->startTime();
   std::vector<std::pair<double, double>> pieces;
-  for (std::size_t k = 0; k + 1 < times.size(); ++k) {
-    const int n = std::max(1, static_cast<int>(std::ceil(kTrajectoryPieces * (times[k + 1] - times[k]) / span)));
-    for (int i = 0; i < n; ++i) {
-      pieces.emplace_back(times[k] + (times[k + 1] - times[k]) * i / n,
-                          i + 1 == n ? times[k + 1] : times[k] + (times[k + 1] - times[k]) * (i + 1) / n);
+  constexpr std::size_t kMaxPathSegments = 10000;
+  if (times.size() > kMaxPathSegments + 1) {
+    const double t0 = trajectory->startTime();
+    for (std::size_t i = 0; i < kMaxPathSegments; ++i) {
+      pieces.emplace_back(t0 + span * static_cast<double>(i) / kMaxPathSegments,
+                          i + 1 == kMaxPathSegments ? trajectory->endTime()
+                                                    : t0 + span * static_cast<double>(i + 1) / kMaxPathSegments);
+    }
+  } else {
+    for (std::size_t k = 0; k + 1 < times.size(); ++k) {
+      const int n = std::max(1, static_cast<int>(std::ceil(kTrajectoryPieces * (times[k + 1] - times[k]) / span)));
+      for (int i = 0; i < n; ++i) {
+        pieces.emplace_back(times[k] + (times[k + 1] - times[k]) * i / n,
+                            i + 1 == n ? times[k + 1] : times[k] + (times[k + 1] - times[k]) * (i + 1) / n);
+      }
     }
   }
   // Positions within a segment (at its end: the segment's own one-sided pose, via a time just inside it).

@@ -179,6 +179,11 @@ class AccuracyCheckerNode {
   std::map<std::uint64_t, std::shared_ptr<Job>> jobs_;  ///< running jobs by id
   std::uint64_t last_job_id_ = 0;
   bool shutting_down_ = false;
+  /// A job ended since the last trim: once no job runs, the idle timer gives the heap's free memory back to the
+  /// system (malloc_trim), so that the node returns to its baseline after a large job.
+  bool trim_pending_ = false;
+  ros::WallTimer idle_trim_timer_;
+  void trimWhenIdle();
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_broadcaster_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
