@@ -473,11 +473,12 @@ struct SearchSettings {
   int samples = 2000;         ///< random points (each with a random geometry vertex, interior point or the nominal one)
   int starts = 3;             ///< pattern searches per component (from the best distinct samples)
   int maxEvaluations = 1500;  ///< per pattern search
+  int kicks = 6;              ///< iterated vertex searches per start (uncertain geometry)
 };
 
 /// Coordinate pattern search maximising (sign +1) or minimising (-1) f_k over the variables (if `moveT`) and the
 /// geometry (if `moveG`), from `start`, inside the domain and the geometry box. Steps start at a quarter of every
-/// variable's width and at the full half-width of every geometry coordinate, and halve when no move improves.
+/// variable's width and at the full width of every geometry coordinate, and halve when no move improves.
 inline Candidate patternSearch(const PoseMap& map, const Uncertainty& u, int k, double sign, Candidate start,
                                bool moveT, bool moveG, int maxEvaluations) {
   std::vector<Placement> scratch;
@@ -488,7 +489,7 @@ inline Candidate patternSearch(const PoseMap& map, const Uncertainty& u, int k, 
     minT[i] = 1e-9 * stepT[i];
   }
   for (int p = 0; p < params && moveG; ++p) {
-    stepG[p] = u.coords[p].half;
+    stepG[p] = 2.0 * u.coords[p].half;  // (the first steps flip a coordinate between its bounds)
     minG[p] = 1e-6 * stepG[p];
   }
   double best = sign * start.value;
@@ -529,12 +530,6 @@ inline Candidate patternSearch(const PoseMap& map, const Uncertainty& u, int k, 
   return start;
 }
 
-/// Maxima over the domain and the geometries, per component, with where they were found.
-struct Maxima {
-  std::array<Candidate, 6> best;
-  long evaluations = 0;
-};
-
 template <typename Rng>
 Point randomInside(const PoseMap& map, Rng& rng, bool& ok) {
   Point t(map.variables());
@@ -552,32 +547,245 @@ Point randomInside(const PoseMap& map, Rng& rng, bool& ok) {
   return t;
 }
 
+/// A box of a domain's variables (a box of the verifier's search): its points that belong to the domain.
+class BoxMap final : public PoseMap {
+ public:
+  BoxMap(const PoseMap& inner, std::vector<double> lo, std::vector<double> hi)
+      : inner_(inner), lo_(std::move(lo)), hi_(std::move(hi)) {}
+  int variables() const override { return inner_.variables(); }
+  double lower(int i) const override { return lo_[i]; }
+  double upper(int i) const override { return hi_[i]; }
+  bool inside(const Point& t, double slack) const override { return inBox(t, slack) && inner_.inside(t, slack); }
+  void poses(const Point& t, std::vector<Placement>& out) const override { inner_.poses(t, out); }
+  std::vector<Point> specialPoints() const override {
+    std::vector<Point> out;
+    const int m = variables();
+    for (int corner = 0; corner < (1 << m); ++corner) {
+      Point t(m);
+      for (int i = 0; i < m; ++i) t[i] = (corner >> i) & 1 ? hi_[i] : lo_[i];
+      if (inside(t, 0.0)) out.push_back(t);
+    }
+    return out;
+  }
+
+ private:
+  const PoseMap& inner_;
+  std::vector<double> lo_, hi_;
+};
+
+/// The admissible geometries restricted to sub-ranges [lo_p, hi_p] of every coordinate (a box of the verifier's
+/// geometry bisection).
+inline Uncertainty restricted(const Uncertainty& u, const std::vector<double>& lo, const std::vector<double>& hi) {
+  Uncertainty r = u;
+  for (int p = 0; p < r.count(); ++p) {
+    r.coords[p].nominal = 0.5 * (lo[p] + hi[p]);
+    r.coords[p].half = 0.5 * (hi[p] - lo[p]);
+  }
+  return r;
+}
+
+/// The largest f_k found in a box (and geometry set) per component: its corners and random points, each with a random
+/// geometry, then a pattern search over pose and geometry from the best of each component.
+template <typename Rng>
+std::array<Candidate, 6> boxMaxima(const PoseMap& box, const Uncertainty& u, int samples, int evaluations, Rng& rng) {
+  std::array<Candidate, 6> best;
+  std::vector<Placement> scratch;
+  auto someGeometry = [&]() {
+    if (u.count() == 0) return Geometry();
+    const double r = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+    return r < 0.7 ? u.randomVertex(rng) : r < 0.9 ? u.randomInterior(rng) : u.centre();
+  };
+  auto account = [&](const Point& t) {
+    const Geometry g = someGeometry();
+    const Vec6d f = valuesAt(box, u, t, g, scratch);
+    for (int k = 0; k < 6; ++k)
+      if (std::isfinite(f[k]) && f[k] > best[k].value) best[k] = {t, g, f[k]};
+  };
+  std::vector<Point> corners = box.specialPoints();
+  std::shuffle(corners.begin(), corners.end(), rng);
+  for (std::size_t i = 0; i < corners.size() && i < 8; ++i) account(corners[i]);
+  for (int i = 0; i < samples; ++i) {
+    bool ok = false;
+    const Point t = randomInside(box, rng, ok);
+    if (ok) account(t);
+  }
+  for (int k = 0; k < 6; ++k) {
+    if (best[k].t.size() == 0) continue;
+    best[k] = patternSearch(box, u, k, 1.0, best[k], true, u.count() > 0, evaluations);
+  }
+  return best;
+}
+
+/// Maxima over the domain and the geometries, per component, with where they were found.
+struct Maxima {
+  std::array<Candidate, 6> best;
+  long evaluations = 0;
+};
+
+/// Local search over the vertices of the geometry box at a point t, from the vertex g: moves that flip one coordinate
+/// between its bounds, two coordinates of the same leg (one of its base anchor, one of its platform anchor: together
+/// they turn the leg) or a whole anchor, taken while they raise (sign +1) or lower (-1) f_k. f_k is not smooth where
+/// some J_kj changes sign, and there single flips can miss the extreme by a few percent.
+inline Candidate vertexSearch(const PoseMap& map, const Uncertainty& u, const Point& t, int k, double sign, Geometry g,
+                              std::vector<Placement>& scratch, int passes = 6) {
+  std::vector<std::vector<int>> moves;
+  for (int p = 0; p < u.count(); ++p) moves.push_back({p});
+  for (int p = 0; p < u.count(); ++p)
+    for (int q = p + 1; q < u.count(); ++q) {
+      const Coordinate &a = u.coords[p], &b = u.coords[q];
+      if (a.kind == 0 && b.kind == 1 && a.leg == b.leg) moves.push_back({p, q});
+    }
+  for (int kind = 0; kind < 2; ++kind)
+    for (int leg = 0; leg < 6; ++leg) {
+      std::vector<int> anchor;
+      for (int p = 0; p < u.count(); ++p)
+        if (u.coords[p].kind == kind && u.coords[p].leg == leg) anchor.push_back(p);
+      if (anchor.size() > 1) moves.push_back(anchor);
+    }
+  Candidate best{t, g, valueAt(map, u, t, g, k, scratch)};
+  for (int pass = 0; pass < passes; ++pass) {
+    bool improved = false;
+    for (const std::vector<int>& move : moves) {
+      Geometry f = best.g;
+      for (const int p : move) f[p] = f[p] == u.hi(p) ? u.lo(p) : u.hi(p);
+      const double w = valueAt(map, u, t, f, k, scratch);
+      if (sign * w > sign * best.value) {
+        best.g = f;
+        best.value = w;
+        improved = true;
+      }
+    }
+    if (!improved) break;
+  }
+  return best;
+}
+
+/// The best vertex for every f_k at t by the linearisation of J in the geometry: with J_kj(g) ~ J_kj(g0) + sum_p
+/// D_pj (g_p - g0_p), f_k = sum_j |J_kj| e_j is the largest of the linear functions sum_j s_j e_j J_kj(g) over the sign
+/// patterns s, each maximised at the vertex of the signs of sum_j s_j e_j D_pj: those 64 vertices are evaluated
+/// exactly and the best is kept (the gradient's vertex is the one of s = sign J_k(g0); where some J_kj is small against
+/// its change over the geometry box, another pattern wins).
+inline std::array<Candidate, 6> linearizedMaxima(const PoseMap& map, const Uncertainty& u, const Point& t,
+                                                 std::vector<Placement>& scratch) {
+  std::array<Candidate, 6> best;
+  for (Candidate& b : best) b.t = t;
+  map.poses(t, scratch);
+  if (scratch.empty() || u.count() == 0) return best;
+  const Placement x = scratch.front();
+  auto jacobian = [&](const Geometry& g) -> Eigen::Matrix<double, 6, 6> {
+    return inverseJacobian<double>(u.at(g), x).inverse();
+  };
+  const Geometry g0 = u.centre();
+  std::vector<Eigen::Matrix<double, 6, 6>> d(u.count());
+  for (int p = 0; p < u.count(); ++p) {
+    Geometry plus = g0, minus = g0;
+    const double step = 1e-3 * u.coords[p].half;
+    plus[p] += step;
+    minus[p] -= step;
+    d[p] = (jacobian(plus) - jacobian(minus)) * (u.coords[p].half / (2.0 * step));
+  }
+  for (int k = 0; k < 6; ++k) {
+    for (int pattern = 0; pattern < 64; ++pattern) {
+      Geometry g(u.count());
+      for (int p = 0; p < u.count(); ++p) {
+        double slope = 0.0;
+        for (int j = 0; j < 6; ++j) slope += ((pattern >> j) & 1 ? 1.0 : -1.0) * u.nominal.sensor[j] * d[p](k, j);
+        g[p] = slope >= 0.0 ? u.hi(p) : u.lo(p);
+      }
+      const double v = valueAt(map, u, t, g, k, scratch);
+      if (v > best[k].value) {
+        best[k].g = g;
+        best[k].value = v;
+      }
+    }
+  }
+  return best;
+}
+
+/// Iterated vertex search from a local extreme `start` at its point: `kicks` times, flip a random subset of the
+/// coordinates whose single flips change f_k least (they interact most: several of them flipped together can raise
+/// f_k by percents where none alone does), search again from there and keep the better vertex.
+template <typename Rng>
+Candidate kickSearch(const PoseMap& map, const Uncertainty& u, int k, double sign, Candidate start, int kicks, Rng& rng,
+                     std::vector<Placement>& scratch) {
+  if (u.count() < 2) return start;
+  for (int kick = 0; kick < kicks; ++kick) {
+    std::vector<std::pair<double, int>> change;
+    for (int p = 0; p < u.count(); ++p) {
+      Geometry f = start.g;
+      f[p] = f[p] == u.hi(p) ? u.lo(p) : u.hi(p);
+      change.push_back({std::abs(valueAt(map, u, start.t, f, k, scratch) - start.value), p});
+    }
+    std::sort(change.begin(), change.end());
+    const int pool = std::min<int>(u.count(), 12);
+    Geometry g = start.g;
+    int flipped = 0;
+    for (int i = 0; i < pool; ++i) {
+      if (rng() % 3u != 0u) continue;
+      const int p = change[i].second;
+      g[p] = g[p] == u.hi(p) ? u.lo(p) : u.hi(p);
+      ++flipped;
+    }
+    if (flipped < 2) continue;
+    const Candidate c = vertexSearch(map, u, start.t, k, sign, g, scratch, 3);
+    if (sign * c.value > sign * start.value) start = c;
+  }
+  return start;
+}
+
+/// The vertex of the geometry box that the signs of d f_k / d g at (t, g) point to (central differences; sign +1:
+/// raising f_k, -1: lowering it).
+inline Geometry signVertex(const PoseMap& map, const Uncertainty& u, const Point& t, const Geometry& g, int k,
+                           double sign, std::vector<Placement>& scratch) {
+  Geometry out(g.size());
+  for (int p = 0; p < u.count(); ++p) {
+    Geometry plus = g, minus = g;
+    const double step = 1e-3 * u.coords[p].half;
+    plus[p] += step;
+    minus[p] -= step;
+    const double d = valueAt(map, u, t, plus, k, scratch) - valueAt(map, u, t, minus, k, scratch);
+    out[p] = sign * d >= 0.0 ? u.hi(p) : u.lo(p);
+  }
+  return out;
+}
+
 template <typename Rng>
 Maxima searchMaxima(const PoseMap& map, const Uncertainty& u, const SearchSettings& s, Rng& rng) {
   Maxima out;
   std::vector<Placement> scratch;
   // Keep the best few samples of every component as the starts of the pattern searches.
   std::array<std::vector<Candidate>, 6> top;
+  auto offer = [&](int k, const Candidate& c) {
+    if (!std::isfinite(c.value)) return;
+    std::vector<Candidate>& list = top[k];
+    if (static_cast<int>(list.size()) >= s.starts && c.value <= list.back().value) return;
+    // (One start per point: the same point with another geometry replaces it if better.)
+    auto same = std::find_if(list.begin(), list.end(), [&](const Candidate& o) { return o.t == c.t; });
+    if (same != list.end()) {
+      if (c.value > same->value) *same = c;
+    } else {
+      list.push_back(c);
+    }
+    std::sort(list.begin(), list.end(), [](const Candidate& a, const Candidate& b) { return a.value > b.value; });
+    if (static_cast<int>(list.size()) > s.starts) list.pop_back();
+  };
   auto account = [&](const Point& t, const Geometry& g) {
     const Vec6d f = valuesAt(map, u, t, g, scratch);
     ++out.evaluations;
-    for (int k = 0; k < 6; ++k) {
-      if (!std::isfinite(f[k])) continue;
-      std::vector<Candidate>& list = top[k];
-      if (static_cast<int>(list.size()) >= s.starts && f[k] <= list.back().value) continue;
-      list.push_back({t, g, f[k]});
-      std::sort(list.begin(), list.end(), [](const Candidate& a, const Candidate& b) { return a.value > b.value; });
-      if (static_cast<int>(list.size()) > s.starts) list.pop_back();
-    }
+    for (int k = 0; k < 6; ++k) offer(k, {t, g, f[k]});
   };
   auto someGeometry = [&]() {
     if (u.count() == 0) return Geometry();
     const double r = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
-    return r < 0.7 ? u.randomVertex(rng) : r < 0.9 ? u.randomInterior(rng) : u.centre();
+    return r < 0.35 ? u.randomVertex(rng) : r < 0.5 ? u.randomInterior(rng) : u.centre();
   };
   for (const Point& t : map.specialPoints()) {
     account(t, u.centre());
-    if (u.count() > 0) account(t, u.randomVertex(rng));
+    if (u.count() == 0) continue;
+    // (Corners are where the maxima usually are; which corner wins can depend on the geometry.)
+    const std::array<Candidate, 6> lin = linearizedMaxima(map, u, t, scratch);
+    out.evaluations += 2 * u.count() + 6 * 64;
+    for (int k = 0; k < 6; ++k) offer(k, lin[k]);
   }
   for (int i = 0; i < s.samples; ++i) {
     bool ok = false;
@@ -587,8 +795,17 @@ Maxima searchMaxima(const PoseMap& map, const Uncertainty& u, const SearchSettin
   for (int k = 0; k < 6; ++k) {
     Candidate best;
     for (Candidate c : top[k]) {
-      // First the geometry at the start pose (its worst vertex by flips, then the continuous search), then both.
-      if (u.count() > 0) c = patternSearch(map, u, k, 1.0, c, false, true, s.maxEvaluations / 3);
+      // First the geometry at the start pose (the vertex the gradient's signs point to, flips and the continuous
+      // search), then both.
+      if (u.count() > 0) {
+        const Candidate v = linearizedMaxima(map, u, c.t, scratch)[k];
+        out.evaluations += 2 * u.count() + 6 * 64;
+        if (v.value > c.value) c = v;
+        Candidate w = vertexSearch(map, u, c.t, k, 1.0, c.g, scratch, 3);
+        w = kickSearch(map, u, k, 1.0, w, s.kicks, rng, scratch);
+        if (w.value > c.value) c = w;
+        c = patternSearch(map, u, k, 1.0, c, false, true, s.maxEvaluations / 3);
+      }
       c = patternSearch(map, u, k, 1.0, c, true, u.count() > 0, s.maxEvaluations);
       out.evaluations += s.maxEvaluations;
       if (c.value > best.value) best = c;
@@ -599,8 +816,8 @@ Maxima searchMaxima(const PoseMap& map, const Uncertainty& u, const SearchSettin
 }
 
 /// The geometries tried at one pose to find the smallest f_k: the nominal one, random vertices and interior points,
-/// and local minima of vertex flips and of the pattern search from several of them. Returns the smallest found (f_k in
-/// double) and fills `tried` with every geometry evaluated when not null.
+/// and local minima of vertex searches and of the pattern search from several of them. Returns the smallest found (f_k
+/// in double).
 template <typename Rng>
 Candidate minimumOverGeometries(const PoseMap& map, const Uncertainty& u, const Point& t, int k, Rng& rng,
                                 int randomVertices = 24, int randomInterior = 8, int searches = 3) {
@@ -617,31 +834,16 @@ Candidate minimumOverGeometries(const PoseMap& map, const Uncertainty& u, const 
   };
   account(u.centre());
   if (u.count() == 0) return best;
-  std::vector<Geometry> starts;
+  std::vector<Geometry> starts = {signVertex(map, u, t, u.centre(), k, -1.0, scratch)};
+  account(starts.back());
   for (int i = 0; i < randomVertices; ++i) {
     starts.push_back(u.randomVertex(rng));
     account(starts.back());
   }
   for (int i = 0; i < randomInterior; ++i) account(u.randomInterior(rng));
-  // Single-coordinate flips between the bounds from a few vertices, then the continuous search from the best.
+  // Vertex searches from a few vertices (the gradient's first), then the continuous search from the best.
   for (int sIdx = 0; sIdx < searches && sIdx < static_cast<int>(starts.size()); ++sIdx) {
-    Geometry g = starts[sIdx];
-    double v = valueAt(map, u, t, g, k, scratch);
-    for (int pass = 0; pass < 4; ++pass) {
-      bool improved = false;
-      for (int p = 0; p < u.count(); ++p) {
-        Geometry f = g;
-        f[p] = f[p] == u.hi(p) ? u.lo(p) : u.hi(p);
-        const double w = valueAt(map, u, t, f, k, scratch);
-        if (w < v) {
-          v = w;
-          g = f;
-          improved = true;
-        }
-      }
-      if (!improved) break;
-    }
-    account(g);
+    account(vertexSearch(map, u, t, k, -1.0, starts[sIdx], scratch).g);
   }
   Candidate c = best;
   c = patternSearch(map, u, k, -1.0, c, false, true, 600);

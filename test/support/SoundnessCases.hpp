@@ -641,6 +641,11 @@ struct RunSettings {
   std::size_t maxBoxes = 2000;  ///< per verifier run
   double timeLimit = 3.0;       ///< per verifier run (a safety net; the box budget is what normally stops a run)
   int threads = 1;
+  /// Recorded boxes (safe boxes of verify runs, undecided boxes) whose own upper bounds are checked per run, and the
+  /// oracle's effort in each (random points, pattern-search evaluations per component).
+  int boxChecks = 8;
+  int boxSamples = 24;
+  int boxEvaluations = 150;
 };
 
 /// The budgets of the CI slice (test/core/SoundnessSuiteTest.cpp; soundness_campaign --slice).
@@ -651,6 +656,7 @@ inline RunSettings sliceSettings() {
   s.search.maxEvaluations = 900;
   s.maxBoxes = 1500;
   s.timeLimit = 1.0;
+  s.boxChecks = 6;
   return s;
 }
 
@@ -662,6 +668,9 @@ inline RunSettings campaignSettings() {
   s.search.maxEvaluations = 1500;
   s.maxBoxes = 4000;
   s.timeLimit = 5.0;
+  s.boxChecks = 16;
+  s.boxSamples = 40;
+  s.boxEvaluations = 300;
   return s;
 }
 
@@ -674,6 +683,7 @@ struct Counts {
   /// The oracle's reach: components of converged max-error runs, and those where the oracle's maximum is more than 1%
   /// below the certified lower bound (the search missed the worst pose or geometry there).
   long oracleCompared = 0, oracleShort = 0;
+  double oracleWorst = 1.0;  ///< the smallest ratio oracle maximum / certified lower bound among them
 
   void add(const Counts& o) {
     cases += o.cases;
@@ -691,6 +701,7 @@ struct Counts {
     evaluations += o.evaluations;
     oracleCompared += o.oracleCompared;
     oracleShort += o.oracleShort;
+    oracleWorst = std::min(oracleWorst, o.oracleWorst);
   }
   std::string summary() const {
     std::ostringstream os;
@@ -700,7 +711,7 @@ struct Counts {
        << " uncertainty_sensitive), singular verdicts " << singular << "; " << assertions << " assertions checked, "
        << skipped << " skipped (pose singular to working precision); " << evaluations << " oracle evaluations; "
        << "oracle maximum > 1% below the certified lower bound in " << oracleShort << " of " << oracleCompared
-       << " converged components";
+       << " converged components (smallest ratio " << oracleWorst << ")";
     return os.str();
   }
 };
@@ -837,6 +848,62 @@ struct Checker {
     }
   }
 
+  /// The upper bounds recorded with boxes of the search (safe or undecided) hold at the oracle's largest values in
+  /// the box (its points in the domain) and the geometries it was searched with (every admissible one, or the
+  /// recorded sub-ranges).
+  void boxBounds(const std::vector<verify::BoxRecord>& records, const RunSettings& s, const std::string& what) {
+    std::vector<std::size_t> order(records.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::size_t n = 0; n < order.size() && static_cast<int>(n) < s.boxChecks; ++n) {
+      const verify::BoxRecord& b = records[order[n]];
+      const int m = c.map->variables();
+      if (!check(b.box.size() == m && b.upper.size() == 6, what + ": recorded box of the wrong size")) return;
+      std::vector<double> lo(m), hi(m);
+      for (int i = 0; i < m; ++i) {
+        lo[i] = b.box[i].lower();
+        hi[i] = b.box[i].upper();
+      }
+      const oracle::BoxMap box(*c.map, lo, hi);
+      oracle::Uncertainty u = c.uncertainty;
+      std::string geometry = "every admissible geometry";
+      if (!b.geometry.empty()) {
+        if (!check(static_cast<int>(b.geometry.size()) == u.count(), what + ": recorded geometry of the wrong size"))
+          return;
+        std::vector<double> glo(u.count()), ghi(u.count());
+        for (int p = 0; p < u.count(); ++p) {
+          glo[p] = b.geometry[p].lower();
+          ghi[p] = b.geometry[p].upper();
+        }
+        if (!check(c.uncertainty.admissible(glo) && c.uncertainty.admissible(ghi),
+                   what + ": recorded geometry ranges not admissible"))
+          continue;
+        u = oracle::restricted(c.uncertainty, glo, ghi);
+        geometry = "geometry ranges " + geometryText(glo) + " .. " + geometryText(ghi);
+      }
+      const std::array<oracle::Candidate, 6> best = oracle::boxMaxima(box, u, s.boxSamples, s.boxEvaluations, rng);
+      for (int k = 0; k < 6; ++k) {
+        if (!(b.upper[k] < std::numeric_limits<double>::infinity()) || best[k].t.size() == 0) continue;
+        std::vector<oracle::Placement> poses;
+        c.map->poses(best[k].t, poses);
+        const oracle::PlainRobot robot = u.count() > 0 ? u.at(best[k].g) : u.nominal;
+        for (const oracle::Placement& x : poses) {
+          const oracle::Precise p = oracle::precise(robot, x, k);
+          if (!p.reliable) {
+            ++counts.skipped;
+            continue;
+          }
+          std::string boxText;
+          for (int i = 0; i < m; ++i) boxText += (i ? ", [" : "[") + num(lo[i]) + ", " + num(hi[i]) + "]";
+          check(p.value <= b.upper[k] * (1.0 + p.tolerance),
+                what + ": box bound of component " + std::to_string(k) + " " + num(b.upper[k]) + " < oracle " +
+                    num(p.value) + " at " + pointText(best[k].t) + " geometry " + geometryText(best[k].g) +
+                    " in the box " + boxText + " (" + geometry + ")");
+        }
+      }
+    }
+  }
+
   void sensitive(const verify::VerifierResult& r, const DVec& thresholds, const std::string& what) {
     check(!r.sensitive.empty() && c.uncertainty.count() > 0, what + ": uncertainty_sensitive without a recorded pose");
     for (std::size_t i = 0; i < r.sensitive.size() && i < 3; ++i) {
@@ -921,6 +988,7 @@ inline std::vector<std::string> runCase(const Case& c, const RunSettings& s, Cou
   const verify::VerifierResult mr = verify::Verifier::run(robot, *c.domain, mo);
   (mr.singular ? counts.maxSingular : mr.converged ? counts.maxConverged : counts.maxUnconverged)++;
   if (mr.singular) chk.singular(mr, "max-error singular");
+  chk.boxBounds(mr.undecided_boxes, s, "max-error undecided box");
   const bool haveBracket = mr.max_lower.size() == 6 && mr.max_upper.size() == 6;
   chk.check(haveBracket, "max-error: no bracket");
   DVec reference = DVec::Constant(6, std::numeric_limits<double>::quiet_NaN());
@@ -948,6 +1016,7 @@ inline std::vector<std::string> runCase(const Case& c, const RunSettings& s, Cou
     if (mr.converged && !mr.singular && std::isfinite(sampledMax[k]) && mr.max_lower[k] > 0.0) {
       ++counts.oracleCompared;
       if (sampledMax[k] < 0.99 * mr.max_lower[k]) ++counts.oracleShort;
+      counts.oracleWorst = std::min(counts.oracleWorst, sampledMax[k] / mr.max_lower[k]);
     }
     const double ref = std::max(std::isfinite(sampledMax[k]) ? sampledMax[k] : 0.0, mr.max_lower[k]);
     if (std::isfinite(ref) && ref > 0.0) reference[k] = ref;
@@ -958,10 +1027,16 @@ inline std::vector<std::string> runCase(const Case& c, const RunSettings& s, Cou
     verify::VerifierOptions vo = baseOptions();
     vo.mode = verify::Mode::Verify;
     vo.thresholds = thresholds;
+    vo.max_recorded_safe_boxes = 4096;
     const verify::VerifierResult vr = verify::Verifier::run(robot, *c.domain, vo);
     std::string t = what + " (thresholds";
     for (int k = 0; k < 6; ++k) t += " " + num(thresholds[k]);
     t += ")";
+    // (A safe box's bound of a component decided on a containing box may be above the threshold: the enclosures may
+    // return looser bounds for the components not asked for, ErrorEnclosure.hpp BoxInput::rows. Every recorded bound
+    // must hold all the same.)
+    chk.boxBounds(vr.safe_boxes, s, t + " safe box");
+    chk.boxBounds(vr.undecided_boxes, s, t + " undecided box");
     if (vr.verdict == verify::Verdict::Safe) {
       ++counts.safe;
       chk.check(mayBeSafe, t + ": SAFE below the maxima: " + vr.message + "; fractions safe " +
