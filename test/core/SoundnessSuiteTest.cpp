@@ -8,7 +8,8 @@
 //   * verify mode with thresholds 0.999 x max(oracle maximum, certified lower bound), and clearly below in some
 //     components: never SAFE; every UNSAFE witness above its certified bound (so above its threshold) for every
 //     geometry tried; every uncertainty-sensitive pose's failing geometry above its threshold;
-//   * verify mode just above the oracle's maxima: SAFE only if no certified lower bound exceeds the thresholds.
+//   * verify mode just above the oracle's maxima: SAFE only if no certified lower bound exceeds the thresholds;
+//   * the upper bounds recorded with safe and undecided boxes hold at the oracle's maxima in those boxes.
 // UNDECIDED is always acceptable (budgets are small); a wrong SAFE never is.
 #include <gtest/gtest.h>
 
