@@ -75,6 +75,39 @@ TEST(SoundnessOracle, AgreesWithTheModelsPointEvaluationOnRandomRobots) {
   EXPECT_GT(compared, 3000);
 }
 
+TEST(SoundnessOracle, PoseMapsAgreeWithTheDomainsPoses) {
+  // The oracle's poses (from the definitions of workspaces, regions, frames, trajectories and varieties) and the
+  // core's domains (Domain::poseAt: certified enclosures) describe the same motions, at random points of random cases.
+  const model::GoughGeometry ref6 = test::ref6File().geometry;
+  std::mt19937_64 rng(12);
+  int compared = 0;
+  for (int index = 0; index < 60; ++index) {
+    const sn::Case c = sn::makeCase(98, index, ref6);
+    std::vector<oracle::Placement> poses;
+    for (int n = 0; n < 10; ++n) {
+      bool ok = false;
+      const oracle::Point t = oracle::randomInside(*c.map, rng, ok);
+      if (!ok) continue;
+      DVec v(t.size());
+      for (int i = 0; i < t.size(); ++i) v[i] = t[i];
+      const IVec core = c.domain->poseAt(v);
+      c.map->poses(t, poses);
+      ASSERT_EQ(poses.size(), 1u) << c.description();
+      const oracle::Placement& x = poses.front();
+      const oracle::Mat3L33 r = oracle::rotation(core[3].mid(), core[4].mid(), core[5].mid());
+      for (int i = 0; i < 3; ++i) {
+        const double scale = 1.0 + std::abs(core[i].mid());
+        EXPECT_NEAR(core[i].mid(), static_cast<double>(x.p[i]), 1e-12 * scale + core[i].rad()) << c.description();
+      }
+      double angleRadius = 0.0;
+      for (int i = 3; i < 6; ++i) angleRadius += core[i].rad();
+      EXPECT_LT(static_cast<double>((r - x.r).norm()), 1e-12 + 2.0 * angleRadius) << c.description();
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 500);
+}
+
 TEST(SoundnessOracle, ChecksRejectAnswersTheOracleContradicts) {
   // The checks can fail: a witness bound just above the oracle's value at the witness, a lower bound just above the
   // value at its argmax, and a singularity whose ends have the same sign of det J^-1 are all reported.
