@@ -1,4 +1,4 @@
-// Randomized soundness campaign (docs/soundness-suite.md): runs random verification problems and checks every answer
+// Randomized soundness campaign (docs/soundness.md, "The randomized soundness suite"): runs random verification problems and checks every answer
 // of the verifier against an independent plain oracle (test/support/PlainOracle.hpp, SoundnessCases.hpp).
 //
 //   soundness_campaign SEED COUNT [FIRST] [--profile general|uncertain] [--slice] [--boxes N] [--time S]

@@ -1,4 +1,4 @@
-// Randomized soundness suite (docs/soundness-suite.md): a fixed-seed slice of the random problems of
+// Randomized soundness suite (docs/soundness.md, "The randomized soundness suite"): a fixed-seed slice of the random problems of
 // bench/soundness_campaign, every answer of the verifier checked against the plain oracle
 // (test/support/PlainOracle.hpp, written independently of the core). What is checked per case
 // (test/support/SoundnessCases.hpp, runCase):
