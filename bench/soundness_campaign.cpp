@@ -1,5 +1,6 @@
-// Randomized soundness campaign (docs/soundness.md, "The randomized soundness suite"): runs random verification problems and checks every answer
-// of the verifier against an independent plain oracle (test/support/PlainOracle.hpp, SoundnessCases.hpp).
+// Randomized soundness campaign (docs/soundness.md, "The randomized soundness suite"): runs random verification
+// problems and checks every answer of the verifier against an independent plain oracle (test/support/PlainOracle.hpp,
+// SoundnessCases.hpp).
 //
 //   soundness_campaign SEED COUNT [FIRST] [--profile general|uncertain] [--slice] [--boxes N] [--time S]
 //                      [--samples N] [--verbose]

@@ -1,5 +1,5 @@
-// Randomized soundness suite (docs/soundness.md, "The randomized soundness suite"): a fixed-seed slice of the random problems of
-// bench/soundness_campaign, every answer of the verifier checked against the plain oracle
+// Randomized soundness suite (docs/soundness.md, "The randomized soundness suite"): a fixed-seed slice of the random
+// problems of bench/soundness_campaign, every answer of the verifier checked against the plain oracle
 // (test/support/PlainOracle.hpp, written independently of the core). What is checked per case
 // (test/support/SoundnessCases.hpp, runCase):
 //   * max-error mode: certified upper >= the oracle's maximum over poses and geometries, every component; the certified

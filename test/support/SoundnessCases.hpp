@@ -1,4 +1,5 @@
-// Random verification problems for the soundness suite and the checks run on each (docs/soundness.md, "The randomized soundness suite").
+// Random verification problems for the soundness suite and the checks run on each (docs/soundness.md, "The randomized
+// soundness suite").
 //
 // makeCase(seed, index, ref6) draws one problem from its own generator (seeded by seed and index, so any case can be
 // re-run alone): a robot (ref6 perturbed, or a random semi-regular hexagon at a scale of 0.01-10 m; per-leg sensor
