@@ -47,6 +47,19 @@ IVec cornerOrInnerBox(const IVec& whole, int trial, std::mt19937_64& rng) {
   return box;
 }
 
+/// S(t) = C J^-1(t) - I in MPFR (C: a preconditioner, J^-1 of geometry g at pose t).
+MpMat mpPoseResidual(const DMat& c, const model::GoughGeometry& g, const DVec& t) {
+  const MpMat jt = mpInverseJacobian(g, t);
+  MpMat sm(6, std::vector<Mp>(6, Mp(0.0)));
+  for (int k = 0; k < 6; ++k)
+    for (int l = 0; l < 6; ++l) {
+      Mp x(k == l ? -1.0 : 0.0);
+      for (int m = 0; m < 6; ++m) x = x + Mp(c(k, m)) * jt[m][l];
+      sm[k][l] = x;
+    }
+  return sm;
+}
+
 }  // namespace
 
 TEST(ErrorEnclosure, RegistryKnowsEveryMethodAndRejectsUnknownNames) {
@@ -319,14 +332,7 @@ TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
       }
     for (int s = 0; s < 64 + 16; ++s) {
       const DVec t = vertexOrRandomPoint(box, s, rng);
-      const MpMat jt = mpInverseJacobian(rf.geometry, t);
-      MpMat sm(6, std::vector<Mp>(6, Mp(0.0)));
-      for (int k = 0; k < 6; ++k)
-        for (int l = 0; l < 6; ++l) {
-          Mp x(k == l ? -1.0 : 0.0);
-          for (int m = 0; m < 6; ++m) x = x + Mp(c(k, m)) * jt[m][l];
-          sm[k][l] = x;
-        }
+      const MpMat sm = mpPoseResidual(c, rf.geometry, t);
       for (int k = 0; k < 6; ++k)
         for (int l = 0; l < 6; ++l) {
           Mp x(0.0);
@@ -537,13 +543,7 @@ TEST(ErrorEnclosure, SeparableSsyPartOfTheRadiusHoldsAfterTheResidualTightening)
         }
       for (int s = 0; s < 64 + 8; ++s) {
         const DVec t = vertexOrRandomPoint(box, s, rng);
-        const MpMat jt = mpInverseJacobian(rf.geometry, t);
-        MpMat sm(6, std::vector<Mp>(6, Mp(0.0)));
-        for (int k = 0; k < 6; ++k)
-          for (int l = 0; l < 6; ++l) {
-            for (int q = 0; q < 6; ++q) sm[k][l] = sm[k][l] + Mp(c(k, q)) * jt[q][l];
-            if (k == l) sm[k][l] = sm[k][l] - Mp(1.0);
-          }
+        const MpMat sm = mpPoseResidual(c, rf.geometry, t);
         MpMat cj = sm;
         for (int k = 0; k < 6; ++k) cj[k][k] = cj[k][k] + Mp(1.0);
         MpMat vp(6, std::vector<Mp>(m, Mp(0.0)));
