@@ -193,6 +193,19 @@ void centresAndHalfWidths(const model::RobotModel& robot, std::vector<double>& g
   }
 }
 
+/// The forms of J0 = N C over the box from a nominal expansion (prepared without geometry terms): as apply() gives
+/// them, or as the default pipeline uses them, tightened by their residual radius (MeanValueEnclosure).
+bool nominalJ0(const enclosure::AffineInverseAction& act, bool tightened,
+               enclosure::AffineInverseAction::AffineMatrix& jac) {
+  const DMat& c = act.preconditioner();
+  IMat all(c.rows(), c.cols());
+  for (int j = 0; j < c.cols(); ++j)
+    for (int l = 0; l < c.rows(); ++l) all(l, j) = Interval(c(l, j));
+  if (!act.apply(all, jac)) return false;
+  if (tightened) act.tightenByResidual(all, jac);
+  return true;
+}
+
 DVec randomVertexOf(const IVec& box, std::mt19937_64& rng) {
   DVec q(box.size());
   for (int i = 0; i < box.size(); ++i) q[i] = (rng() & 1u) ? box[i].upper() : box[i].lower();
@@ -838,12 +851,8 @@ TEST(UncertaintyEnclosure, GeometryIncrementEntryBoundsHoldAndReachTheWorstVerte
       ws.poseView(box, true, in);
       enclosure::AffineInverseAction act;
       ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
-      const DMat& c = act.preconditioner();
-      IMat all(6, 6);
-      for (int j = 0; j < 6; ++j)
-        for (int l = 0; l < 6; ++l) all(l, j) = Interval(c(l, j));
       enclosure::AffineInverseAction::AffineMatrix jac;
-      ASSERT_TRUE(act.apply(all, jac));
+      ASSERT_TRUE(nominalJ0(act, false, jac));
       enclosure::GeometryIncrement increment;
       if (increment.prepare(robot, in, act, jac) != enclosure::GeometryIncrement::Preparation::Ready) continue;
       ++ready;
@@ -910,13 +919,8 @@ TEST(UncertaintyEnclosure, PipelineBoundsHoldAgainstDenseSamplesAtWideGeometryRa
       ws.poseView(box, true, in);
       enclosure::AffineInverseAction act;
       ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
-      const DMat& c = act.preconditioner();
-      IMat all(6, 6);
-      for (int j = 0; j < 6; ++j)
-        for (int l = 0; l < 6; ++l) all(l, j) = Interval(c(l, j));
       enclosure::AffineInverseAction::AffineMatrix jac;
-      ASSERT_TRUE(act.apply(all, jac));
-      act.tightenByResidual(all, jac);
+      ASSERT_TRUE(nominalJ0(act, true, jac));
       for (int j = 0; j < 6; ++j)
         tightenedColumns += (jac.radius.col(j).array() < jac.splitRadius.col(j).array()).any();
       enclosure::GeometryIncrement increment;
