@@ -135,7 +135,8 @@ struct VerifierResult {
   std::size_t undecided_box_count = 0;     ///< all of them
   /// Verify mode: boxes proven within every threshold for every admissible geometry (their `geometry` empty), at
   /// most options.max_recorded_safe_boxes, and how many there were (counted only when some are recorded). `upper`
-  /// holds the bounds computed on the box itself: +inf for a component already proven on a box containing it.
+  /// holds the bounds computed on the box itself; a component already proven on a box containing it is not enclosed
+  /// again and has a valid but possibly looser bound there (even above its threshold; +inf where none was computed).
   std::vector<BoxRecord> safe_boxes;
   std::size_t safe_box_count = 0;
   Statistics stats;
