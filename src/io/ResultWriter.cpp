@@ -277,6 +277,7 @@ bool isTrajectory(const RunInfo& info) { return info.domain == "trajectory"; }
 Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o, const RunInfo& info) {
   Node d = Node::object();
   d.set("tool", Node::string(info.tool));
+  d.set("version", Node::string(info.version));
   d.set("exit_code", info.exit_code >= 0 ? Node::integer(info.exit_code) : Node());
   d.set("verdict", Node::string(verify::toString(r.verdict)));
   d.set("reason", Node::string(verify::toString(r.reason)));

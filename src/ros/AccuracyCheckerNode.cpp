@@ -18,6 +18,7 @@
 #include "pkm_accuracy/Progress.h"
 #include "pkm_accuracy/VerificationResult.h"
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/Version.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/ros/BoxMarkers.hpp"
 #include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
@@ -263,6 +264,7 @@ void AccuracyCheckerNode::publishAnchorFrames() {
 bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Response& res) {
   try {
     res = Describe::Response();
+    res.version = pkm_accuracy::version();
     res.robot_source = source_;
     res.base_frame = names_.base_link;
     res.platform_frame = names_.platform_link;

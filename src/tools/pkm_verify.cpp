@@ -22,6 +22,7 @@
 
 #include "CommandLine.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/Version.hpp"
 #include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
@@ -65,7 +66,7 @@ void usage(std::ostream& os) {
         "                  [--geometry-form combined|decomposed] [--json OUT] [--yaml OUT]\n"
         "                  [--self-check] [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
-        "       pkm_verify --help\n"
+        "       pkm_verify --help | --version\n"
         "\n"
         "Certifies the worst-case positioning error of a Gough-Stewart platform over a workspace (interval analysis\n"
         "and branch-and-bound; no ROS). Units: m and rad. Options also accept the form --name=value.\n"
@@ -137,6 +138,7 @@ void usage(std::ostream& os) {
         "  --progress             show the progress line on stderr even if stderr is not a terminal (default: only\n"
         "                         on a terminal, for runs longer than a second)\n"
         "  --help                 this text\n"
+        "  --version              print the version and exit\n"
         "\n"
         "Ctrl-C stops the run: the result is UNDECIDED (cancelled) and the reports are still written.\n"
         "\n"
@@ -160,6 +162,7 @@ void usage(std::ostream& os) {
 // ---- arguments -----------------------------------------------------------------------------------------------------
 struct Arguments {
   bool help = false;
+  bool version = false;
   bool list_workspaces = false;
   bool quiet = false;
   bool progress = false;
@@ -200,8 +203,8 @@ Arguments parseArguments(int argc, char** argv) {
       "--time-limit",   "--json",        "--yaml",          "--max-boxes",
       "--min-width",    "--bisection",   "--trajectory",    "--geometry-splitting",
       "--stall-levels", "--faces",       "--skip-hopeless", "--geometry-form"};
-  static const std::vector<std::string> flags = {"--help", "-h",         "--list-workspaces", "--quiet",
-                                                 "-q",     "--progress", "--self-check"};
+  static const std::vector<std::string> flags = {"--help",  "-h", "--version",  "--list-workspaces",
+                                                 "--quiet", "-q", "--progress", "--self-check"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
     std::string value;
@@ -227,6 +230,8 @@ Arguments parseArguments(int argc, char** argv) {
     }
     if (arg == "--help" || arg == "-h") {
       a.help = true;
+    } else if (arg == "--version") {
+      a.version = true;
     } else if (arg == "--list-workspaces") {
       a.list_workspaces = true;
     } else if (arg == "--quiet" || arg == "-q") {
@@ -315,7 +320,7 @@ Arguments parseArguments(int argc, char** argv) {
       a.yaml = value;
     }
   }
-  if (a.help) return a;
+  if (a.help || a.version) return a;
   if (a.robot.empty()) badArgument("--robot", "required (the robot file, e.g. config/ref6.yaml; see --help)");
   if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
   if (!a.trajectory.empty() && !a.workspace.empty()) {
@@ -538,6 +543,10 @@ int run(int argc, char** argv) {
     usage(std::cout);
     return 0;
   }
+  if (a.version) {
+    std::cout << "pkm_verify " << pkm_accuracy::version() << "\n";
+    return 0;
+  }
 
   struct stat st;
   if (::stat(a.robot.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
@@ -570,6 +579,7 @@ int run(int argc, char** argv) {
   const model::GoughPlatform model(robot.geometry);
 
   io::RunInfo info;
+  info.version = pkm_accuracy::version();
   std::shared_ptr<const domain::Domain> domainPtr;
   if (a.trajectory.empty()) {
     std::optional<domain::RigidTransform> frame;

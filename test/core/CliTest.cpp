@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <random>
@@ -455,6 +456,31 @@ TEST_F(CliTest, HelpDocumentsUsageAndExitCodes) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
   }
   EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+TEST_F(CliTest, VersionIsThePackagesInTheToolAndItsReports) {
+  // package.xml's <version>, read here from the file itself.
+  std::ifstream xml(std::string(PKM_SOURCE_DIR) + "/package.xml");
+  ASSERT_TRUE(xml) << "package.xml";
+  const std::string text((std::istreambuf_iterator<char>(xml)), std::istreambuf_iterator<char>());
+  const auto open = text.find("<version>"), close = text.find("</version>");
+  ASSERT_NE(open, std::string::npos);
+  ASSERT_NE(close, std::string::npos);
+  const std::string expected = text.substr(open + 9, close - open - 9);
+  ASSERT_FALSE(expected.empty());
+  const RunResult r = run({"--version"});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(r.out, "pkm_verify " + expected + "\n");
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_EQ(run({"--version=1"}).code, 3);  // a flag takes no value
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", "1,1,1,1,1,1"}, 0);
+  EXPECT_EQ(j["version"].str(), expected);
+  const std::string yaml = path("out.yaml");
+  EXPECT_EQ(
+      run({"--robot", kRef6, "--workspace", tiny_, "--thresholds", "1,1,1,1,1,1", "--yaml", yaml, "--quiet"}).code, 0);
+  std::ifstream y(yaml);
+  const std::string yamlText((std::istreambuf_iterator<char>(y)), std::istreambuf_iterator<char>());
+  EXPECT_NE(yamlText.find("version: \"" + expected + "\""), std::string::npos) << yamlText.substr(0, 400);
 }
 
 TEST_F(CliTest, GenerousThresholdsOnTinyBoxAreSafe) {

@@ -13,6 +13,7 @@
 #include "Ref6.hpp"
 #include "pkm_accuracy/Describe.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
+#include "pkm_accuracy/core/Version.hpp"
 
 namespace {
 
@@ -56,6 +57,8 @@ TEST(Describe, ReturnsExactlyTheReferenceRobot) {
   const Describe::Response r = describe();
   ASSERT_TRUE(r.success) << r.message;
   EXPECT_EQ(r.robot_source, "yaml");
+  EXPECT_EQ(r.version, pkm_accuracy::version());
+  EXPECT_FALSE(r.version.empty());
   EXPECT_EQ(r.base_frame, "base_link");
   EXPECT_EQ(r.platform_frame, "platform");
   ASSERT_EQ(r.base_anchors.size(), 6u);

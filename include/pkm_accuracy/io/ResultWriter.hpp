@@ -64,6 +64,7 @@ namespace io {
 /// What the result refers to (the result itself does not know its robot, domain or options).
 struct RunInfo {
   std::string tool = "pkm_verify";
+  std::string version;                 ///< the package's version (pkm_accuracy::version())
   std::string robot;                   ///< robot file path
   std::string workspace;               ///< workspace name (from the robot file) or workspace file path
   std::string workspace_region;        ///< "box", "cylinder", "sphere", "polyhedron"
