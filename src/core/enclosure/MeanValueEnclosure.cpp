@@ -791,10 +791,13 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
       magE(r, q) = (a(r, q) - Interval(r == q ? 1.0 : 0.0)).mag();
       magN(r, q) = inv(r, q).mag();
     }
-  // Products of non-negative matrices: the computed value times (1 + 1e-13) bounds the exact one in any rounding
-  // mode (relative error below 2 gamma_6 < 3e-15 per product); 1e-300 covers underflow.
-  const DMat remainder = ((magE * magE) * magN) * (1.0 + 1e-13) + DMat::Constant(n, n, 1e-300);
-  if (!remainder.allFinite()) return;
+  // Products of non-negative matrices: the computed value times (1 + kProductMargin) bounds the exact one in any
+  // rounding mode (relative error below gamma(6) per product, Rounding.hpp); 1e-300 covers underflow. An overflow
+  // (+inf, or DBL_MAX under round-down) leaves the bound unused.
+  constexpr double kProductMargin = 1e-13;
+  static_assert(kProductMargin >= 4.0 * interval::rounding::gamma(6), "two products and the scaling");
+  const DMat remainder = ((magE * magE) * magN) * (1.0 + kProductMargin) + DMat::Constant(n, n, 1e-300);
+  if (!(remainder.array() < std::numeric_limits<double>::max()).all()) return;
   DVec smear = DVec::Zero(vars);
   out.componentSmear = DMat::Zero(n, vars);
   for (int k = 0; k < n; ++k) {
