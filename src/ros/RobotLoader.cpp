@@ -1,7 +1,9 @@
 #include "pkm_accuracy/ros/RobotLoader.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -33,7 +35,7 @@ std::string describeValue(const XmlRpc::XmlRpcValue& v) {
       os << "the number " << static_cast<const double&>(v);
       return os.str();
     case XmlRpc::XmlRpcValue::TypeString:
-      return "the string \"" + static_cast<const std::string&>(v) + "\"";
+      return "the string \"" + static_cast<const std::string&>(v) + "\"";  // (numeric strings are read as numbers)
     case XmlRpc::XmlRpcValue::TypeArray:
       os << "a list of " << v.size() << (v.size() == 1 ? " item" : " items");
       return os.str();
@@ -51,17 +53,7 @@ std::string numStr(double x) {
   return os.str();
 }
 
-bool toNumber(const XmlRpc::XmlRpcValue& v, double& out) {
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
-    out = static_cast<const double&>(v);
-    return true;
-  }
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-    out = static_cast<const int&>(v);
-    return true;
-  }
-  return false;
-}
+bool toNumber(const XmlRpc::XmlRpcValue& v, double& out) { return parameterNumber(v, out); }
 
 /// Reads a finite number; `what` is the full name used in messages.
 bool readFinite(const XmlRpc::XmlRpcValue& v, const std::string& what, const char* unit, double& out,
@@ -291,6 +283,75 @@ bool fixedChainOrigin(const urdf::Model& urdf, const std::string& ref_link, cons
 
 }  // namespace
 
+bool numberFromString(const std::string& text, double& out) {
+  // The whole text, nothing around it (no spaces, no unit), in the C locale's syntax of strtod: decimal or
+  // hexadecimal, with an optional sign and exponent. "inf" and "nan" parse but are not finite.
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) ||
+      std::isspace(static_cast<unsigned char>(text.back()))) {
+    return false;
+  }
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  const double x = std::strtod(begin, &end);  // (rounded to the nearest double, as a YAML float would be)
+  if (end != begin + text.size() || !std::isfinite(x)) return false;
+  out = x;
+  return true;
+}
+
+bool parameterNumber(const XmlRpc::XmlRpcValue& v, double& out) {
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      out = static_cast<const double&>(v);
+      return true;
+    case XmlRpc::XmlRpcValue::TypeInt:
+      out = static_cast<const int&>(v);
+      return true;
+    case XmlRpc::XmlRpcValue::TypeString:
+      return numberFromString(static_cast<const std::string&>(v), out);
+    default:
+      return false;
+  }
+}
+
+bool parameterInteger(const XmlRpc::XmlRpcValue& v, int& out) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    out = static_cast<const int&>(v);
+    return true;
+  }
+  double x = 0.0;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString || !numberFromString(static_cast<const std::string&>(v), x))
+    return false;
+  if (x != std::floor(x) || std::fabs(x) > 2147483647.0) return false;
+  out = static_cast<int>(x);
+  return true;
+}
+
+bool readOptionalNumber(const ros::NodeHandle& nh, const std::string& key, double& out, std::string& error) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(key, v)) return true;  // keep the default
+  double x = 0.0;
+  if (!parameterNumber(v, x)) {
+    error = nh.resolveName(key) + ": expected a finite number (or a string holding one, e.g. \"2e-5\"), got " +
+            describeValue(v);
+    return false;
+  }
+  out = x;
+  return true;
+}
+
+bool readOptionalInteger(const ros::NodeHandle& nh, const std::string& key, int& out, std::string& error) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(key, v)) return true;  // keep the default
+  int x = 0;
+  if (!parameterInteger(v, x)) {
+    error = nh.resolveName(key) + ": expected an integer (or a string holding one, e.g. \"2\"), got " +
+            describeValue(v);
+    return false;
+  }
+  out = x;
+  return true;
+}
+
 std::string formatAnchorName(const std::string& pattern, int index) {
   // The pattern is user input: only allow a single %d (or %i) and no other conversion, so snprintf is safe.
   int conversions = 0;
@@ -389,11 +450,12 @@ bool loadUrdfAnchorNames(const ros::NodeHandle& nh, UrdfAnchorNames& out, std::s
   }
   XmlRpc::XmlRpcValue v;
   if (nh.getParam("anchor_first_index", v)) {
-    if (v.getType() != XmlRpc::XmlRpcValue::TypeInt || (static_cast<int>(v) != 0 && static_cast<int>(v) != 1)) {
+    int first = -1;
+    if (!parameterInteger(v, first) || (first != 0 && first != 1)) {
       error = nh.resolveName("anchor_first_index") + ": expected the integer 0 or 1, got " + describeValue(v);
       return false;
     }
-    n.first_index = static_cast<int>(v);
+    n.first_index = first;
   }
   out = n;
   return true;

@@ -283,6 +283,100 @@ TEST(Loader, GeometryErrorsFromTheCoreNameTheParameter) {
   }
 }
 
+// `sensor_error:=2e-5` on a roslaunch line and `2e-5` in a YAML 1.1 file reach the parameter server as strings.
+TEST(Loader, NumbersWrittenAsStringsAreReadAsNumbers) {
+  ros::NodeHandle nh = refRobotIn("strings");
+  nh.setParam("sensor_error", std::string("2e-5"));
+  XmlRpc::XmlRpcValue tool = list({0.0, 0.0, 0.0});
+  tool[2] = std::string("1.5E-2");
+  nh.setParam("tool_point", tool);
+  nh.setParam("anchor_uncertainty", std::string("+1e-4"));
+  XmlRpc::XmlRpcValue base = points(pkm_accuracy_test::loadRef6().base_anchors);
+  base[3][0] = std::string("0.031");
+  nh.setParam("base_anchors", base);
+  GoughGeometry g;
+  std::string error;
+  ASSERT_TRUE(loadGoughGeometry(nh, g, error)) << error;
+  EXPECT_EQ(g.sensor_error, std::vector<double>(6, 2e-5));
+  EXPECT_EQ(g.tool_point, Eigen::Vector3d(0.0, 0.0, 1.5e-2));
+  EXPECT_EQ(g.platform_anchor_halfwidth[2], Eigen::Vector3d::Constant(1e-4));
+  EXPECT_EQ(g.base_anchors[3], pkm_accuracy_test::loadRef6().base_anchors[3]);
+  // A list of strings, as <rosparam> gives for [2e-5, 2e-5, ...].
+  nh.setParam("sensor_error", [] {
+    XmlRpc::XmlRpcValue v;
+    v.setSize(6);
+    for (int i = 0; i < 6; ++i) v[i] = std::string(i == 4 ? "3e-5" : "2e-5");
+    return v;
+  }());
+  ASSERT_TRUE(loadGoughGeometry(nh, g, error)) << error;
+  EXPECT_EQ(g.sensor_error[4], 3e-5);
+  EXPECT_EQ(g.sensor_error[0], 2e-5);
+  // anchor_first_index as the string "0" (URDF anchors numbered from 0).
+  ros::NodeHandle names("~strings_names");
+  names.setParam("anchor_first_index", std::string("0"));
+  UrdfAnchorNames n;
+  ASSERT_TRUE(loadUrdfAnchorNames(names, n, error)) << error;
+  EXPECT_EQ(n.first_index, 0);
+}
+
+TEST(Loader, StringsThatAreNotWholeFiniteNumbersAreRefusedNamingTheParameter) {
+  const std::vector<std::string> bad = {"2e-5 m", " 2e-5", "2e-5 ", "", "1e999", "inf", "nan", "-inf", "two", "2,5e-5"};
+  for (const auto& text : bad) {
+    ros::NodeHandle nh = refRobotIn("bad_string_" + std::to_string(&text - bad.data()));
+    nh.setParam("sensor_error", text);
+    expectFailure(nh, {nh.resolveName("sensor_error"), "the string \"" + text + "\""});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("bad_string_uncertainty");
+    nh.setParam("anchor_uncertainty", std::string("1e-4m"));
+    expectFailure(nh, {"/loader_test/bad_string_uncertainty/anchor_uncertainty", "the string \"1e-4m\""});
+  }
+  {
+    ros::NodeHandle nh = refRobotIn("negative_string");
+    nh.setParam("sensor_error", std::string("-2e-5"));
+    expectFailure(nh, {"sensor_error", "> 0", "-2e-05"});
+  }
+  std::string error;
+  for (const char* text : {"0.5", "1e0x", "2 "}) {
+    ros::NodeHandle nh("~bad_index_string");
+    nh.setParam("anchor_first_index", std::string(text));
+    UrdfAnchorNames n;
+    EXPECT_FALSE(loadUrdfAnchorNames(nh, n, error)) << text;
+    EXPECT_NE(error.find("anchor_first_index"), std::string::npos) << error;
+  }
+}
+
+TEST(Loader, NumericStringHelpers) {
+  using pkm_accuracy::ros_layer::numberFromString;
+  double x = 0.0;
+  EXPECT_TRUE(numberFromString("2e-5", x));
+  EXPECT_EQ(x, 2e-5);
+  EXPECT_TRUE(numberFromString("-3", x));
+  EXPECT_EQ(x, -3.0);
+  EXPECT_TRUE(numberFromString(".5", x));
+  EXPECT_EQ(x, 0.5);
+  x = 7.0;
+  EXPECT_FALSE(numberFromString("0x", x));
+  EXPECT_EQ(x, 7.0) << "unchanged on failure";
+  // Node options: an optional number given as a string.
+  ros::NodeHandle nh("~options_strings");
+  nh.setParam("some_budget", std::string("2.5"));
+  nh.setParam("some_count", std::string("3"));
+  nh.setParam("bad_count", std::string("3.5"));
+  double budget = 1.0;
+  int count = 1;
+  std::string error;
+  ASSERT_TRUE(pkm_accuracy::ros_layer::readOptionalNumber(nh, "some_budget", budget, error)) << error;
+  EXPECT_EQ(budget, 2.5);
+  ASSERT_TRUE(pkm_accuracy::ros_layer::readOptionalInteger(nh, "some_count", count, error)) << error;
+  EXPECT_EQ(count, 3);
+  EXPECT_FALSE(pkm_accuracy::ros_layer::readOptionalInteger(nh, "bad_count", count, error));
+  EXPECT_NE(error.find("/loader_test/options_strings/bad_count"), std::string::npos) << error;
+  EXPECT_EQ(count, 3);
+  ASSERT_TRUE(pkm_accuracy::ros_layer::readOptionalNumber(nh, "unset", budget, error));
+  EXPECT_EQ(budget, 2.5);
+}
+
 TEST(Loader, FrameAndPatternParameters) {
   std::string error;
   {

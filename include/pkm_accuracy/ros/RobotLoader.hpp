@@ -7,11 +7,28 @@
 
 #include <ros/node_handle.h>
 #include <urdf/model.h>
+#include <xmlrpcpp/XmlRpcValue.h>
 
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
+
+/// Numbers in parameters. A number may arrive as a string: `sensor_error:=2e-5` on a roslaunch line (through
+/// <rosparam subst_value="true">) and `2e-5` in a YAML 1.1 file (no dot: not a float in YAML 1.1) both reach the
+/// parameter server as the string "2e-5". Such a string is read as the number when its whole text parses as a
+/// finite number (strtod syntax, no surrounding spaces or units); any other string is refused by the readers below,
+/// naming the parameter.
+bool numberFromString(const std::string& text, double& out);
+/// An int, a double, or a numeric string as above.
+bool parameterNumber(const XmlRpc::XmlRpcValue& v, double& out);
+/// An int, or a string whose whole text is a finite number with an integral value that fits an int.
+bool parameterInteger(const XmlRpc::XmlRpcValue& v, int& out);
+/// Optional numeric parameter `key` of `nh`: unchanged `out` if unset; false (error naming the resolved parameter,
+/// the expected and the given value) if set to anything but a number or a numeric string.
+bool readOptionalNumber(const ros::NodeHandle& nh, const std::string& key, double& out, std::string& error);
+/// Optional integer parameter, likewise.
+bool readOptionalInteger(const ros::NodeHandle& nh, const std::string& key, int& out, std::string& error);
 
 /// Default name of the frame the base anchors are expressed in.
 constexpr const char* kDefaultBaseFrame = "base_link";
@@ -51,7 +68,8 @@ constexpr const char* kDefaultPlatformFrame = "platform";
 /// base_frame: base_link       # optional (default "base_link"): read by loadRobotFrames(), not by this function
 /// @endcode
 ///
-/// Integers are accepted wherever numbers are expected. Other keys (workspaces, anchor_uncertainty_cases, ...) are
+/// Integers, and strings holding a number ("2e-5", see numberFromString()), are accepted wherever numbers are
+/// expected. Other keys (workspaces, anchor_uncertainty_cases, ...) are
 /// ignored. The result is checked with GoughGeometry::validate().
 ///
 /// @param nh    node handle whose namespace holds the parameters
