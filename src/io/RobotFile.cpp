@@ -105,6 +105,11 @@ domain::Workspace workspace(const YAML::Node& n, const std::string& where) {
   std::array<Interval, 6> r;
   for (int i = 0; i < 6; ++i) r[i] = range(n[keys[i]], child(where, keys[i]));
   const std::array<Interval, 3> orientation = {r[3], r[4], r[5]};
+  try {
+    domain::Workspace::fromRanges(r);  // the six ranges alone (e.g. an angle beyond 2 pi), named as such
+  } catch (const InvalidArgument& e) {
+    fail(where, e.what());
+  }
   const YAML::Node reg = n["region"];
   const std::string rw = child(where, "region");
   if (!reg) return domain::Workspace::fromRanges(r);

@@ -75,3 +75,24 @@ TEST(PositionRegion, RejectsInvalidParameters) {
       InvalidArgument);
   EXPECT_THROW(PositionRegion::box(Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 0, 1)), InvalidArgument);
 }
+
+// A polyhedron proven empty is refused (a verification over it would be vacuous: SAFE after 0 boxes); a region
+// of zero volume that is not empty (a face of the box) is not.
+TEST(PositionRegion, EmptyPolyhedronIsRefused) {
+  const Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Ones();
+  try {
+    PositionRegion::polyhedron({Eigen::Vector3d(1, 0, 0)}, {-0.5}, lo, hi);  // x <= -0.5 misses the box
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("polyhedron: empty"), std::string::npos) << e.what();
+  }
+  // Empty only between two cuts: x + y <= 0.9 and x + y >= 1.0 (proven after bisection).
+  EXPECT_THROW(PositionRegion::polyhedron({Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(-1, -1, 0)}, {0.9, -1.0}, lo, hi),
+               InvalidArgument);
+  // Not empty: the same band with room in it, a single corner, and the face x = 0.
+  EXPECT_NO_THROW(
+      PositionRegion::polyhedron({Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(-1, -1, 0)}, {1.0, -0.9}, lo, hi));
+  EXPECT_NO_THROW(PositionRegion::polyhedron({Eigen::Vector3d(1, 1, 1)}, {0.0}, lo, hi));
+  EXPECT_NO_THROW(PositionRegion::polyhedron({Eigen::Vector3d(1, 0, 0)}, {0.0}, lo, hi));
+  EXPECT_FALSE(PositionRegion::box(lo, hi).certainlyEmpty());
+}

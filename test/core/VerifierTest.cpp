@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -383,6 +384,22 @@ TEST(Verifier, BadInputGetsTypedErrorsNamingTheField) {
   r[4] = Interval::empty();
   EXPECT_THROW(domain::Workspace::fromRanges(r), InvalidArgument);
   r[4] = Interval::entire();
+  EXPECT_THROW(domain::Workspace::fromRanges(r), InvalidArgument);
+  // Angles within [-2 pi, 2 pi] (a whole turn, also as [0, 2 pi]); beyond: a unit mistake, refused naming the angle.
+  r[4] = Interval(-0.1, 0.1);
+  r[5] = Interval(0.0, domain::Workspace::kMaxAngle);
+  EXPECT_NO_THROW(domain::Workspace::fromRanges(r));
+  r[5] = Interval(-domain::Workspace::kMaxAngle, domain::Workspace::kMaxAngle);
+  EXPECT_NO_THROW(domain::Workspace::fromRanges(r));
+  r[5] = Interval(-15.0, 15.0);  // degrees
+  try {
+    domain::Workspace::fromRanges(r);
+    ADD_FAILURE() << "yaw [-15, 15] accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("yaw: expected a range within [-2 pi, 2 pi]", 0), 0u) << e.what();
+  }
+  r[5] = Interval(0.0, 0.1);
+  r[3] = Interval(0.0, std::nextafter(domain::Workspace::kMaxAngle, 10.0));
   EXPECT_THROW(domain::Workspace::fromRanges(r), InvalidArgument);
   EXPECT_THROW(Interval(1.0, 0.0), InvalidArgument);
   EXPECT_THROW(Interval(std::nan(""), 0.0), InvalidArgument);

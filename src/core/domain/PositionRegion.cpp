@@ -83,7 +83,49 @@ PositionRegion PositionRegion::polyhedron(const std::vector<Eigen::Vector3d>& no
   r.type_ = Type::Polyhedron;
   r.normals_ = normals;
   r.offsets_ = offsets;
+  if (r.certainlyEmpty()) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "polyhedron: empty: no point of the box [" << bounds_lo.x() << ", " << bounds_hi.x() << "] x ["
+       << bounds_lo.y() << ", " << bounds_hi.y() << "] x [" << bounds_lo.z() << ", " << bounds_hi.z()
+       << "] (m) satisfies every half-space";
+    throw InvalidArgument(os.str());
+  }
   return r;
+}
+
+bool PositionRegion::certainlyEmpty() const {
+  // Breadth-first bisection of the bounding box with the certified classify(): empty once every box is Outside;
+  // not empty as soon as one is Inside. A region too thin to be resolved within the budget (4096 boxes a level,
+  // 65536 in all) counts as not empty, which only leaves it to the verifier.
+  constexpr std::size_t kMaxBoxes = 4096, kMaxClassified = 65536;
+  std::size_t classified = 0;
+  std::vector<std::array<Interval, 3>> level{
+      {Interval(lo_.x(), hi_.x()), Interval(lo_.y(), hi_.y()), Interval(lo_.z(), hi_.z())}};
+  while (!level.empty()) {
+    std::vector<std::array<Interval, 3>> next;
+    for (const auto& b : level) {
+      if (++classified > kMaxClassified) return false;
+      const Containment c = classify(b[0], b[1], b[2]);
+      if (c == Containment::Inside) return false;
+      if (c == Containment::Outside) continue;
+      if (next.size() + 2 > kMaxBoxes) return false;
+      int k = 0;
+      for (int j = 1; j < 3; ++j) {
+        if (b[j].width() > b[k].width()) k = j;
+      }
+      if (!(b[k].width() > 0.0)) return false;  // a point neither inside nor outside: not certainly empty
+      const double mid = b[k].mid();
+      if (!(b[k].lower() < mid && mid < b[k].upper())) return false;
+      auto lo = b, hi = b;
+      lo[k] = Interval(b[k].lower(), mid);
+      hi[k] = Interval(mid, b[k].upper());
+      next.push_back(lo);
+      next.push_back(hi);
+    }
+    level.swap(next);
+  }
+  return true;
 }
 
 std::string PositionRegion::typeName() const {

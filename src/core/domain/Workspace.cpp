@@ -18,6 +18,13 @@ void checkInterval(int i, const Interval& r) {
     os << kKeys[i] << ": expected a finite range [min, max] with min <= max, got " << r;
     throw InvalidArgument(os.str());
   }
+  if (i >= 3 && (std::fabs(r.lower()) > Workspace::kMaxAngle || std::fabs(r.upper()) > Workspace::kMaxAngle)) {
+    std::ostringstream os;
+    os.precision(17);
+    os << kKeys[i] << ": expected a range within [-2 pi, 2 pi] = [-" << Workspace::kMaxAngle << ", "
+       << Workspace::kMaxAngle << "] (rad; angles are periodic), got " << r;
+    throw InvalidArgument(os.str());
+  }
 }
 
 }  // namespace

@@ -26,6 +26,8 @@ class PositionRegion {
   static PositionRegion sphere(const Eigen::Vector3d& centre, double radius);
   /// Convex polyhedron { p : normals[i] . p <= offsets[i] for all i }, which must be bounded: `bounds_lo`/`bounds_hi`
   /// give a box that contains it (used as the initial search box).
+  /// @throws InvalidArgument if the polyhedron is certainly empty (no point of the box satisfies every half-space,
+  ///         proven by certainlyEmpty()): a verification over it would be vacuous.
   static PositionRegion polyhedron(const std::vector<Eigen::Vector3d>& normals, const std::vector<double>& offsets,
                                    const Eigen::Vector3d& bounds_lo, const Eigen::Vector3d& bounds_hi);
 
@@ -37,6 +39,9 @@ class PositionRegion {
 
   /// Certified classification of a box of positions.
   Containment classify(const Interval& x, const Interval& y, const Interval& z) const;
+  /// True only if the region is proven empty: a bisection of the bounding box (at most 4096 boxes) classifies
+  /// every box Outside. False if some box is Inside, or if the budget ends first (a very thin region).
+  bool certainlyEmpty() const;
 
  private:
   PositionRegion() = default;

@@ -12,9 +12,13 @@ namespace domain {
 
 class Workspace final : public Domain {
  public:
+  /// Largest |bound| of an orientation range (rad): 2 pi. Angles are periodic, so a range within [-2 pi, 2 pi]
+  /// covers any set of orientations (also ranges written in [0, 2 pi]); a bound beyond it is a unit mistake
+  /// (degrees) more often than an intent.
+  static constexpr double kMaxAngle = 6.283185307179586;
   /// @param region the position region; its bounding box gives the x, y, z ranges.
   /// @param orientation roll, pitch, yaw ranges (rad).
-  /// @throws InvalidArgument if an orientation range is empty, inverted or not finite.
+  /// @throws InvalidArgument if an orientation range is empty, inverted or not finite, or reaches beyond +-kMaxAngle.
   Workspace(PositionRegion region, const std::array<Interval, 3>& orientation);
   /// A box workspace from six ranges (x, y, z in m; roll, pitch, yaw in rad).
   /// @throws InvalidArgument naming the bad range.
