@@ -280,7 +280,8 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("version", Node::string(info.version));
   d.set("exit_code", info.exit_code >= 0 ? Node::integer(info.exit_code) : Node());
   d.set("verdict", Node::string(verify::toString(r.verdict)));
-  d.set("reason", Node::string(verify::toString(r.reason)));
+  // (As in the ROS messages: the reason of an UNDECIDED verdict, "" for the others.)
+  d.set("reason", Node::string(r.verdict == verify::Verdict::Undecided ? verify::toString(r.reason) : ""));
   d.set("message", Node::string(r.message));
   d.set("mode", Node::string(modeName(o.mode)));
   d.set("robot", Node::string(info.robot));
@@ -527,7 +528,7 @@ std::vector<std::pair<double, double>> undecidedTimes(const verify::VerifierResu
   return merged;
 }
 
-std::string modeName(verify::Mode mode) { return mode == verify::Mode::MaxError ? "max-error" : "verify"; }
+std::string modeName(verify::Mode mode) { return mode == verify::Mode::MaxError ? "max_error" : "verify"; }
 
 std::string bisectionName(verify::Bisection bisection) {
   switch (bisection) {

@@ -39,7 +39,7 @@ using tools::badArgument;
 
 enum ExitCode : int { kSafe = 0, kUnsafe = 1, kUndecided = 2, kBadInput = 3, kInternal = 4 };
 
-const char* const kComponents[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+const char* const kComponents[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
 const char* const kUnits[6] = {"m", "m", "m", "rad", "rad", "rad"};
 const char* const kVariables[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
 /// --stall-levels: more levels than this would never switch in practice (boxes are 2^-levels of their parent).
@@ -58,8 +58,9 @@ bool onOff(const std::string& arg, const std::string& value) {
 }
 
 void usage(std::ostream& os) {
-  os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE | --trajectory FILE] [--thresholds dx,dy,dz,rx,ry,rz]\n"
-        "                  [--mode verify|max-error] [--alpha A] [--uncertainty H] [--method NAME] [--threads N]\n"
+  os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE | --trajectory FILE]\n"
+        "                  [--thresholds dx,dy,dz,drx,dry,drz] [--mode verify|max_error] [--alpha A]\n"
+        "                  [--uncertainty H] [--method NAME] [--threads N]\n"
         "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
         "                  [--bisection smear|width|round-robin] [--geometry-splitting auto|never|always]\n"
         "                  [--stall-levels N] [--faces on|off] [--skip-hopeless on|off]\n"
@@ -90,10 +91,11 @@ void usage(std::ostream& os) {
         "                         platform_anchor_uncertainty; its tool_point_uncertainty is kept)\n"
         "Problem:\n"
         "  --mode MODE            verify (default): SAFE / UNSAFE / UNDECIDED against the thresholds;\n"
-        "                         max-error: certified bracket [lower, upper] of the maximal error of every component\n"
-        "  --thresholds LIST      6 comma-separated finite numbers > 0: dx,dy,dz (m), rx,ry,rz (rad); required in\n"
-        "                         verify mode, optional in max-error mode (then the verdict compares the bracket)\n"
-        "  --alpha A              max-error: stop when upper - lower <= A * lower for every component (default 0.01)\n"
+        "                         max_error (also written max-error): certified bracket [lower, upper] of the\n"
+        "                         maximal error of every component\n"
+        "  --thresholds LIST      6 comma-separated finite numbers > 0: dx,dy,dz (m), drx,dry,drz (rad); required\n"
+        "                         in verify mode, optional in max_error mode (then the verdict compares the bracket)\n"
+        "  --alpha A              max_error: stop when upper - lower <= A * lower for every component (default 0.01)\n"
         "Algorithm:\n"
         "  --method NAME          enclosure method: "
      << methodList()
@@ -144,11 +146,11 @@ void usage(std::ostream& os) {
         "\n"
         "Exit codes:\n"
         "  0  SAFE: every pose of the workspace is certified within every threshold\n"
-        "     (max-error mode without thresholds: the bracket converged to alpha)\n"
+        "     (max_error mode without thresholds: the bracket converged to alpha)\n"
         "  1  UNSAFE: a certified witness pose exceeds a threshold\n"
         "  2  UNDECIDED: neither (budget exhausted, precision limit or interrupted; with anchor uncertainty also\n"
         "     uncertainty_sensitive: a certified pose exceeds a threshold for some admissible geometries but none was\n"
-        "     found exceeding it for every geometry; max-error mode without thresholds: the bracket did not\n"
+        "     found exceeding it for every geometry; max_error mode without thresholds: the bracket did not\n"
         "     converge)\n"
         "  3  bad input: bad arguments, unreadable files or invalid values (one line on stderr names the argument\n"
         "     or field)\n"
@@ -255,10 +257,10 @@ Arguments parseArguments(int argc, char** argv) {
     } else if (arg == "--mode") {
       if (value == "verify") {
         a.options.mode = verify::Mode::Verify;
-      } else if (value == "max-error" || value == "max_error") {
+      } else if (value == "max_error" || value == "max-error") {
         a.options.mode = verify::Mode::MaxError;
       } else {
-        badArgument(arg, "expected verify or max-error, got '" + value + "'");
+        badArgument(arg, "expected verify or max_error, got '" + value + "'");
       }
     } else if (arg == "--alpha") {
       a.options.alpha = tools::parseBounded(arg, value, 0.0, true);
@@ -331,13 +333,14 @@ Arguments parseArguments(int argc, char** argv) {
         parseSix("--min-width", *a.min_width_text, 0.0, false, kVariables, "x,y,z in m, roll,pitch,yaw in rad");
   }
   if (haveThresholds) {
-    const auto t = parseSix("--thresholds", thresholdsText, 0.0, true, kComponents, "dx,dy,dz in m, rx,ry,rz in rad");
+    const auto t =
+        parseSix("--thresholds", thresholdsText, 0.0, true, kComponents, "dx,dy,dz in m, drx,dry,drz in rad");
     a.options.thresholds = DVec::Zero(6);
     for (int k = 0; k < 6; ++k) a.options.thresholds[k] = t[k];
   } else if (a.options.mode == verify::Mode::Verify && !a.list_workspaces) {
     badArgument("--thresholds",
-                "required in verify mode: 6 comma-separated values > 0, dx,dy,dz (m) and rx,ry,rz (rad), e.g. "
-                "--thresholds 1e-4,1e-4,1e-4,1e-3,1e-3,1e-3 (or use --mode max-error)");
+                "required in verify mode: 6 comma-separated values > 0, dx,dy,dz (m) and drx,dry,drz (rad), e.g. "
+                "--thresholds 1e-4,1e-4,1e-4,1e-3,1e-3,1e-3 (or use --mode max_error)");
   }
   return a;
 }

@@ -491,7 +491,7 @@ TEST_F(CliTest, GenerousThresholdsOnTinyBoxAreSafe) {
     const Json j =
         runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--threads", threads}, 0);
     EXPECT_EQ(j["verdict"].str(), "SAFE");
-    EXPECT_EQ(j["reason"].str(), "none");
+    EXPECT_EQ(j["reason"].str(), "");
     EXPECT_EQ(j["mode"].str(), "verify");
     EXPECT_EQ(j["workspace"].str(), tiny_);
     EXPECT_EQ(j["robot"].str(), kRef6);
@@ -537,7 +537,7 @@ TEST_F(CliTest, HalvedThresholdsGiveARealWitness) {
   const int k = static_cast<int>(j["witness_component"].num());
   ASSERT_GE(k, 0);
   ASSERT_LT(k, 6);
-  const char* names[6] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+  const char* names[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
   EXPECT_EQ(j["witness_component_name"].str(), names[k]);
   const double certified = j["witness_lower_bound"].num();
   EXPECT_GT(certified, thresholds[k]);
@@ -565,10 +565,10 @@ TEST_F(CliTest, MaxErrorBracketsTheSampledMaximum) {
   const auto model = ref6Model();
   const auto sampled = sampledMax(model, box, 4);
   const double alpha = 0.05;
-  const Json j = runJson({"--robot", kRef6, "--workspace", ws, "--mode", "max-error", "--alpha", "0.05", "--threads",
+  const Json j = runJson({"--robot", kRef6, "--workspace", ws, "--mode", "max_error", "--alpha", "0.05", "--threads",
                           "1", "--yaml", path("out.yaml")},
                          0);
-  EXPECT_EQ(j["mode"].str(), "max-error");
+  EXPECT_EQ(j["mode"].str(), "max_error");
   EXPECT_EQ(j["verdict"].str(), "UNDECIDED");  // no thresholds: nothing to decide, the bracket is the answer
   EXPECT_EQ(j["reason"].str(), "no_thresholds");
   EXPECT_TRUE(j["max_error"]["converged"].boolean);
@@ -631,7 +631,7 @@ TEST_F(CliTest, WorkspaceFileInAFrameIsVerifiedInTheBaseFrame) {
     for (int k = 0; k < 6; ++k) sampled[k] = std::max(sampled[k], f[k]);
   }
   const Json j =
-      runJson({"--robot", kRef6, "--workspace", ws, "--mode", "max-error", "--alpha", "0.05", "--threads", "1"}, 0);
+      runJson({"--robot", kRef6, "--workspace", ws, "--mode", "max_error", "--alpha", "0.05", "--threads", "1"}, 0);
   EXPECT_NE(j["workspace"].str().find("in frame (translation [0.01, -0.02, 0.08] m"), std::string::npos)
       << j["workspace"].str();
   const auto lower = j["max_error"]["lower"].numbers();
@@ -678,7 +678,7 @@ TEST_F(CliTest, WorkspaceFileInAFrameIsVerifiedInTheBaseFrame) {
     std::ofstream f(path("badframe.yaml"));
     f << readFile(ws).substr(0, readFile(ws).find("frame:")) << "frame: {rpy: [0.1, 0.2]}\n";
   }
-  const RunResult bad = run({"--robot", kRef6, "--workspace", path("badframe.yaml"), "--mode", "max-error"});
+  const RunResult bad = run({"--robot", kRef6, "--workspace", path("badframe.yaml"), "--mode", "max_error"});
   EXPECT_EQ(bad.code, 3);
   EXPECT_NE(bad.err.find("badframe.yaml: frame.rpy"), std::string::npos) << bad.err;
 }
@@ -696,7 +696,7 @@ TEST_F(CliTest, RobotFileWorkspaceInAFrame) {
   const RunResult list = run({"--robot", robot, "--list-workspaces"});
   EXPECT_EQ(list.code, 0) << list.err;
   EXPECT_NE(list.out.find("paper (box, in its own frame)"), std::string::npos) << list.out;
-  const Json j = runJson({"--robot", robot, "--workspace", "paper", "--mode", "max-error", "--alpha", "1.0"}, 0);
+  const Json j = runJson({"--robot", robot, "--workspace", "paper", "--mode", "max_error", "--alpha", "1.0"}, 0);
   EXPECT_NE(j["workspace"].str().find("paper, in frame (translation [0, 0, 0.01] m, rpy [0, 0, 0] rad)"),
             std::string::npos)
       << j["workspace"].str();
@@ -715,7 +715,7 @@ TEST_F(CliTest, RobotFileWorkspaceInAFrame) {
 
 TEST_F(CliTest, MaxErrorOutOfBudgetExitsUndecidedWithTheParentsBounds) {
   // (alpha 1e-4: 45 boxes to converge since session 38, 1 box at 1e-3.)
-  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.0001",
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max_error", "--alpha", "0.0001",
                           "--max-boxes", "20", "--threads", "1"},
                          2);
   EXPECT_EQ(j["verdict"].str(), "UNDECIDED");
@@ -737,7 +737,7 @@ TEST_F(CliTest, MaxErrorOutOfBudgetExitsUndecidedWithTheParentsBounds) {
 
 TEST_F(CliTest, UndecidedBoxesAreListedUpToOneHundred) {
   // Boxes may not be split below these widths, so most of them stay undecided (precision limit).
-  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.0001",
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max_error", "--alpha", "0.0001",
                           "--min-width", "0.01,0.01,0.005,0.005,0.005,0.005", "--threads", "1"},
                          2);
   EXPECT_EQ(j["reason"].str(), "precision_limit");
@@ -783,7 +783,7 @@ TEST_F(CliTest, DefaultWorkspaceAndListing) {
   Json j = runJson({"--robot", kRef6, "--thresholds", "1e-9,1e-9,1e-9,1e-9,1e-9,1e-9", "--threads", "1"}, 1);
   EXPECT_EQ(j["workspace"].str(), "paper");
   // tiny_fixed_orientation has one: it is the default. Max-error mode, converged: exit 0.
-  j = runJson({"--robot", kTinyRobot, "--mode", "max-error", "--alpha", "0.05", "--threads", "1"}, 0);
+  j = runJson({"--robot", kTinyRobot, "--mode", "max_error", "--alpha", "0.05", "--threads", "1"}, 0);
   EXPECT_EQ(j["workspace"].str(), "fixed_orientation");
   EXPECT_TRUE(j["max_error"]["converged"].boolean);
 
@@ -811,7 +811,7 @@ TEST_F(CliTest, TimeLimitAndProgressInAPipe) {
   // (more than 15 s on 1 thread; without the uncertainty it now converges in about 1 s). --progress in a pipe: plain
   // lines, no carriage returns or escape sequences.
   const RunResult r =
-      run({"--robot", kRef6, "--workspace", "paper", "--mode", "max-error", "--alpha", "0.001", "--uncertainty",
+      run({"--robot", kRef6, "--workspace", "paper", "--mode", "max_error", "--alpha", "0.001", "--uncertainty",
            "0.001", "--threads", "1", "--time-limit", "1.5", "--progress", "--quiet", "--json", path("out.json")});
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
@@ -976,7 +976,7 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
 }
 
 TEST_F(CliTest, MaxErrorWithUncertaintyNamesTheWorstGeometry) {
-  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.05",
+  const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max_error", "--alpha", "0.05",
                           "--uncertainty", "1e-4", "--threads", "1"},
                          0);
   EXPECT_TRUE(j["max_error"]["converged"].boolean);
@@ -1015,7 +1015,7 @@ TEST_F(CliTest, PerCoordinateAndToolPointHalfWidthsFromTheRobotFile) {
                                        "[1e-3, 1e-3, 0], [1e-3, 1e-3, 0], [1e-3, 1e-3, 0]]\n"
                                        "platform_anchor_uncertainty: 5e-4\n"
                                        "tool_point_uncertainty: [0.02, 0, 0]\n");
-  const RunResult r = run({"--robot", robot, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.02",
+  const RunResult r = run({"--robot", robot, "--workspace", tiny_, "--mode", "max_error", "--alpha", "0.02",
                            "--threads", "2", "--json", path("out.json")});
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("uncertainty per coordinate: anchors up to 0.001 m, tool point up to 0.02 m; 31 uncertain"),
@@ -1072,7 +1072,7 @@ TEST_F(CliTest, PerCoordinateAndToolPointHalfWidthsFromTheRobotFile) {
   }
   EXPECT_GT(sampled[2], 1.03 * sampledMax(ref6Model(), kTiny, 3)[2]);
   // --uncertainty replaces the anchors' half-widths and keeps the tool point's.
-  const Json u = runJson({"--robot", robot, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.05",
+  const Json u = runJson({"--robot", robot, "--workspace", tiny_, "--mode", "max_error", "--alpha", "0.05",
                           "--uncertainty", "1e-4", "--threads", "2"},
                          0);
   ASSERT_EQ(u["geometry_parameters"].size(), 37u);
@@ -1098,7 +1098,7 @@ TEST_F(CliTest, GeneralBoxOffsetsFromTheRobotFile) {
       {"base_anchors[5].x", {a5.x(), a5.x() + 1e-3}},
       {"tool_point.x", {nominal.tool_point.x(), nominal.tool_point.x() + 0.01}}};
   const Json j =
-      runJson({"--robot", robot, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.02", "--threads", "2"}, 0);
+      runJson({"--robot", robot, "--workspace", tiny_, "--mode", "max_error", "--alpha", "0.02", "--threads", "2"}, 0);
   const Json& names = j["geometry_parameters"];
   ASSERT_EQ(names.size(), box.size());
   for (const Json& n : names.array) {
@@ -1133,7 +1133,7 @@ TEST_F(CliTest, GeneralBoxOffsetsFromTheRobotFile) {
     std::ofstream f(path("centred.yaml"));
     f << centred.str();
   }
-  const Json c = runJson({"--robot", path("centred.yaml"), "--workspace", tiny_, "--mode", "max-error", "--alpha",
+  const Json c = runJson({"--robot", path("centred.yaml"), "--workspace", tiny_, "--mode", "max_error", "--alpha",
                           "0.02", "--threads", "2"},
                          0);
   const auto upper = j["max_error"]["upper"].numbers(), lower = j["max_error"]["lower"].numbers();
@@ -1171,11 +1171,11 @@ TEST_F(CliTest, SelfCheckPassesOnThePaperWorkspaceATrajectoryAndAVariety) {
                             "  y: [[-0.05, 0, 0], [0.1, 0, 1]]\n  z: [[0.47, 0, 0]]\n  yaw: [[0.2, 1, 1]]\n";
   const std::string trajectory = std::string(kSource) + "/config/trajectory_example.yaml";
   const std::vector<std::vector<std::string>> cases = {
-      {"--workspace", "paper", "--uncertainty", "0", "--mode", "max-error", "--alpha", "0.5", "--max-boxes", "300"},
-      {"--workspace", "paper", "--uncertainty", "0.0005", "--mode", "max-error", "--alpha", "0.5", "--max-boxes",
+      {"--workspace", "paper", "--uncertainty", "0", "--mode", "max_error", "--alpha", "0.5", "--max-boxes", "300"},
+      {"--workspace", "paper", "--uncertainty", "0.0005", "--mode", "max_error", "--alpha", "0.5", "--max-boxes",
        "300"},
-      {"--workspace", "paper", "--uncertainty", "0.001", "--mode", "max-error", "--alpha", "0.5", "--max-boxes", "300"},
-      {"--trajectory", trajectory, "--mode", "max-error", "--alpha", "0.02"},
+      {"--workspace", "paper", "--uncertainty", "0.001", "--mode", "max_error", "--alpha", "0.5", "--max-boxes", "300"},
+      {"--trajectory", trajectory, "--mode", "max_error", "--alpha", "0.02"},
       {"--trajectory", variety, "--thresholds", "1e-3,1e-3,1e-3,1e-2,1e-2,1e-2"}};
   for (const auto& c : cases) {
     std::vector<std::string> args = {"--robot", kRef6, "--threads", "2", "--self-check", "--json", path("sc.json")};
@@ -1228,6 +1228,11 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
     f << badRobot;
   }
   const std::string t6 = "1e-4,1e-4,1e-4,1e-3,1e-3,1e-3";
+  // Angles in degrees where radians are expected; a polyhedron that misses its box.
+  const std::string degrees =
+      writeWorkspace("degrees.yaml", {-0.01, 0.01, -0.01, 0.01, 0.47, 0.48, -0.01, 0.01, -0.01, 0.01, -15, 15});
+  const std::string emptyPoly = path("empty_polyhedron.yaml");
+  std::ofstream(emptyPoly) << readFile(tiny_) << "region: {type: polyhedron, normals: [[1, 1, 0]], offsets: [-0.03]}\n";
   // Misspelt keys of a workspace file are errors, not silently a box workspace.
   const std::string tinyText = readFile(tiny_);
   const std::string typo = path("typo.yaml"), typo2 = path("typo2.yaml");
@@ -1243,7 +1248,7 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,1e-4,1e-3,1e-3"}, {"--thresholds", "6", "got 5"}},
       {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,-1e-4,1e-3,1e-3,1e-3"}, {"--thresholds[2] (dz)", "-1e-4"}},
       {{"--robot", kRef6, "--thresholds", "nan,1e-4,1e-4,1e-3,1e-3,1e-3"}, {"--thresholds[0] (dx)", "nan"}},
-      {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,1e-4,1e-3,1e-3,inf"}, {"--thresholds[5] (rz)", "inf"}},
+      {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,1e-4,1e-3,1e-3,inf"}, {"--thresholds[5] (drz)", "inf"}},
       {{"--robot", kRef6, "--thresholds", "1e-4,1e-4,abc,1e-3,1e-3,1e-3"}, {"--thresholds[2]", "abc"}},
       {{"--robot", kRef6, "--thresholds", "0,1e-4,1e-4,1e-3,1e-3,1e-3"}, {"--thresholds[0]", "> 0"}},
       {{"--robot", kRef6, "--workspace", "paper"}, {"--thresholds", "required"}},
@@ -1251,9 +1256,13 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", t6, "--workspace", "nowhere"}, {"--workspace", "nowhere", "paper_40deg"}},
       {{"--robot", kRef6, "--thresholds", t6, "--workspace", inverted},
        {"--workspace", "inverted.yaml", "[0.01, -0.01]"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--workspace", degrees},
+       {"--workspace", "degrees.yaml", "yaw", "[-2 pi, 2 pi]", "[-15, 15]"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--workspace", emptyPoly},
+       {"--workspace", "empty_polyhedron.yaml", "region", "polyhedron: empty"}},
       {{"--robot", kRef6, "--thresholds", t6, "--mode", "fastest"}, {"--mode", "fastest"}},
-      {{"--robot", kRef6, "--mode", "max-error", "--alpha", "0"}, {"--alpha", "> 0"}},
-      {{"--robot", kRef6, "--mode", "max-error", "--alpha", "-0.1"}, {"--alpha"}},
+      {{"--robot", kRef6, "--mode", "max_error", "--alpha", "0"}, {"--alpha", "> 0"}},
+      {{"--robot", kRef6, "--mode", "max_error", "--alpha", "-0.1"}, {"--alpha"}},
       {{"--robot", kRef6, "--thresholds", t6, "--threads", "-1"}, {"--threads"}},
       {{"--robot", kRef6, "--thresholds", t6, "--threads", "two"}, {"--threads", "two"}},
       {{"--robot", kRef6, "--thresholds", t6, "--time-limit", "nan"}, {"--time-limit"}},

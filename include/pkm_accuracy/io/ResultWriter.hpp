@@ -11,10 +11,10 @@
 // writes null, YAML writes .inf / -.inf / .nan (standard YAML floats).
 //
 // JSON / YAML keys (every key is always present; null where it does not apply):
-//   tool, exit_code, verdict ("SAFE" | "UNSAFE" | "UNDECIDED"), reason ("none", "precision_limit", ...), message,
-//   mode ("verify" | "max-error"), robot, workspace, workspace_region, workspace_box ([[lo, hi] x variables]),
-//   variables (names), components (["dx", "dy", "dz", "rx", "ry", "rz"]), units (["m", "m", "m", "rad", ...]),
-//   method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty (the largest
+//   tool, exit_code, verdict ("SAFE" | "UNSAFE" | "UNDECIDED"), reason ("precision_limit", ... for UNDECIDED;
+//   "" otherwise), message, mode ("verify" | "max_error"), robot, workspace, workspace_region, workspace_box ([[lo, hi]
+//   x variables]), variables (names), components (["dx", "dy", "dz", "drx", "dry", "drz"]), units (["m", "m", "m",
+//   "rad", ...]), method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty (the largest
 //   half-width of an anchor coordinate, m), max_boxes, time_limit,
 //   min_width, geometry_splitting ("auto" | "never" | "always"), stall_levels (0 = half the box variables, >= 2), faces
 //   (bool), skip_hopeless (bool), geometry_form ("combined" | "decomposed"), geometry_parameters (names of the
@@ -25,7 +25,7 @@
 //   ([6] or null), singular (a certified singular pose, else null: {from, to (domain variables; det J^-1 has
 //   certified opposite signs there and the segment between them lies in the domain), from_pose, to_pose ([6]),
 //   from_t, to_t (trajectories: s; else null), geometry (null: for every admissible geometry; else {parameter name:
-//   value}, the nominal geometry, max-error mode)}), sensitive_count (uncertainty-sensitive poses found: some
+//   value}, the nominal geometry, max_error mode)}), sensitive_count (uncertainty-sensitive poses found: some
 //   admissible geometry exceeds a threshold there, none was shown to exceed for every geometry), sensitive (the first
 //   ones, at most max_listed_boxes: [{point (domain variables), pose ([6], midpoints of its enclosure), region (the
 //   search box [[lo, hi] x variables]), component, component_name, failing_lower, failing_geometry ({parameter name:
@@ -34,7 +34,7 @@
 //               roll, pitch, yaw] attaining lower, per component, or null], argmax_variables: [the same points in the
 //               domain's variables, or null] (trajectories: also argmax_t, the time of every argmax in s),
 //               argmax_geometry ({parameter name: value} per component, the geometry attaining lower at argmax; null
-//               entries where the bound holds for every geometry; null without geometric uncertainty)} in max-error
+//               entries where the bound holds for every geometry; null without geometric uncertainty)} in max_error
 //               mode,
 //   stats: {boxes, seconds, max_depth, safe_fraction, unsafe_fraction, undecided_fraction, outside_fraction,
 //           threads, geometry_switches, geometry_splits, face_switches, face_boxes, unenclosed_boxes,
@@ -70,8 +70,8 @@ struct RunInfo {
   std::string workspace_region;        ///< "box", "cylinder", "sphere", "polyhedron"
   IVec workspace_box;                  ///< initial box of the domain's variables
   std::vector<std::string> variables;  ///< names of the domain's variables
-  std::vector<std::string> components = {"dx", "dy", "dz", "rx", "ry", "rz"};  ///< error components
-  std::vector<std::string> units = {"m", "m", "m", "rad", "rad", "rad"};       ///< unit of each component
+  std::vector<std::string> components = {"dx", "dy", "dz", "drx", "dry", "drz"};  ///< error components
+  std::vector<std::string> units = {"m", "m", "m", "rad", "rad", "rad"};          ///< unit of each component
   double anchor_uncertainty = 0.0;      ///< m: the largest half-width of an anchor coordinate
   double tool_point_uncertainty = 0.0;  ///< m: the largest half-width of a tool point coordinate
   /// True when every anchor coordinate has the half-width anchor_uncertainty and the tool point is exact.
@@ -97,7 +97,7 @@ struct RunInfo {
 /// Trajectories: the undecided boxes of a result as time intervals, sorted and merged where they touch or overlap.
 std::vector<std::pair<double, double>> undecidedTimes(const verify::VerifierResult& result, const RunInfo& info);
 
-/// Name of a mode as on the command line: "verify", "max-error".
+/// Name of a mode as on the command line and in the ROS messages: "verify", "max_error".
 std::string modeName(verify::Mode mode);
 /// Name of a bisection rule as on the command line: "smear", "width", "round-robin".
 std::string bisectionName(verify::Bisection bisection);
