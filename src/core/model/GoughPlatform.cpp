@@ -689,7 +689,9 @@ std::unique_ptr<RobotModel> GoughPlatform::restrictGeometry(const std::vector<In
 }
 
 std::string GoughPlatform::componentName(int k) const {
-  static const char* kNames[6] = {"x [m]", "y [m]", "z [m]", "roll [rad]", "pitch [rad]", "yaw [rad]"};
+  // The error components (a displacement and a small rotation vector, both in the base frame), named as in the ROS
+  // messages and the CLI's reports: not the pose variables x, ..., yaw.
+  static const char* kNames[6] = {"dx [m]", "dy [m]", "dz [m]", "drx [rad]", "dry [rad]", "drz [rad]"};
   return (k >= 0 && k < 6) ? kNames[k] : "?";
 }
 
