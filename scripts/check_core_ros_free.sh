@@ -4,7 +4,7 @@
 # is checked for /ros/, /tf2, /urdf, /actionlib, /catkin and roscpp. A core file that cannot even be preprocessed
 # this way fails too. Registered as the ctest test core_is_ros_free.
 set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."   # relative paths: the repository's own location never matches a pattern
+cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.."   # relative paths: the repository's own location never matches a pattern
 CXX="${CXX:-g++}"
 FORBIDDEN='/ros/|/tf2|/urdf|/actionlib|/catkin|roscpp'
 

@@ -3,7 +3,7 @@
 # .clang-format (clang-format --dry-run --Werror), listing the offending files. Fix with: clang-format -i <files>.
 # Registered as the ctest test format_check. PKM_FORMAT_VERBOSE=1 shows every violation.
 set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.."
 mapfile -t files < <(find include src test bench -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null | sort)
 if [ ${#files[@]} -eq 0 ]; then
   echo "format_check: no C++ files"

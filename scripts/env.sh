@@ -1,6 +1,6 @@
 # Sourced by the project's scripts: a ROS environment that does not depend on the caller's shell.
 # Debian's ROS 1 lives under /usr; the build must use Debian's python3, not a pyenv one that may come first in PATH.
-PKM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+PKM_ROOT="$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd)"
 export PKM_WS="${PKM_WS:-$PKM_ROOT/.catkin_ws}"
 export PATH="/usr/bin:/bin:/usr/sbin:/sbin:$PATH"
 export PYTHONNOUSERSITE=1
