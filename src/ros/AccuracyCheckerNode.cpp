@@ -3,8 +3,10 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
+#include <iomanip>
 #include <sstream>
 #include <vector>
 
@@ -21,6 +23,7 @@
 #include "pkm_accuracy/core/Version.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/ros/BoxMarkers.hpp"
+#include "pkm_accuracy/ros/ClientLiveness.hpp"
 #include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
 #include "pkm_accuracy/ros/VerifyVarietyConversion.hpp"
 #include "pkm_accuracy/ros/VerifyWorkspaceConversion.hpp"
@@ -85,7 +88,61 @@ void fillProgressStats(const verify::Statistics& s, Progress& msg) {
   msg.outside_fraction = s.outside_fraction;
 }
 
+std::string vec3(const Eigen::Vector3d& v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return os.str();
+}
+
+/// "[a, b, ...]", or "a (all N)" when every entry is the same.
+std::string list(const std::vector<double>& v) {
+  std::ostringstream os;
+  os.precision(6);
+  if (!v.empty() && std::all_of(v.begin(), v.end(), [&](double x) { return x == v.front(); })) {
+    os << v.front() << " (all " << v.size() << ")";
+    return os.str();
+  }
+  os << "[";
+  for (std::size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
+  os << "]";
+  return os.str();
+}
+
+/// Anchor half-widths: "none", "h on every coordinate", or one triple per anchor.
+std::string halfwidths(const std::vector<Eigen::Vector3d>& h) {
+  if (h.empty() || std::all_of(h.begin(), h.end(), [](const Eigen::Vector3d& v) { return v.isZero(); })) {
+    return "none";
+  }
+  const double first = h.front().x();
+  if (std::all_of(h.begin(), h.end(), [&](const Eigen::Vector3d& v) { return (v.array() == first).all(); })) {
+    std::ostringstream os;
+    os.precision(6);
+    os << "+-" << first << " m on every coordinate";
+    return os.str();
+  }
+  std::string out;
+  for (const auto& v : h) out += (out.empty() ? "+-" : ", +-") + vec3(v);
+  return out + " m";
+}
+
 }  // namespace
+
+std::string AccuracyCheckerNode::stopCauseText(StopCause cause) {
+  switch (cause) {
+    case StopCause::ClientCancel:
+      return "cancelled by the client";
+    case StopCause::Preempted:
+      return "preempted by a newer goal of the same client";
+    case StopCause::ClientGone:
+      return "its client is gone";
+    case StopCause::CancelService:
+      return "stopped by ~cancel or the node's shutdown";
+    case StopCause::None:
+      break;
+  }
+  return "";
+}
 
 AccuracyCheckerNode::AccuracyCheckerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh) {}
 
@@ -94,8 +151,11 @@ AccuracyCheckerNode::~AccuracyCheckerNode() {
     // Running jobs stop promptly (they answer UNDECIDED, reason "cancelled"); no new job starts.
     std::lock_guard<std::mutex> lock(jobs_mutex_);
     shutting_down_ = true;
-    for (auto& j : jobs_) j.second->cancel = true;
+    for (auto& j : jobs_) j.second->stop(StopCause::CancelService);
   }
+  jobs_changed_.notify_all();
+  if (client_watch_.joinable()) client_watch_.join();
+  diagnostics_timer_.stop();
   // Service jobs and goal callbacks return (no new goal thread can start after this), then the goals' threads end
   // (cancelled jobs; at most ~tf_timeout in a tf2 lookup) before the action server goes.
   if (verify_spinner_) verify_spinner_->stop();
@@ -134,7 +194,21 @@ bool AccuracyCheckerNode::loadRobot(std::string& error) {
   }
   model::GoughGeometry g;
   if (!loadGoughGeometryFromUrdf(urdf, names_, g, error)) {
-    error = key + ": " + error;
+    // Name the parameters that chose the links, not only the URDF they were looked for in.
+    std::string params;
+    if (error.find("base link") != std::string::npos) {
+      params = pnh_.resolveName("base_frame") + " = \"" + names_.base_link + "\"";
+    } else if (error.find("platform link") != std::string::npos) {
+      params = pnh_.resolveName("platform_frame") + " = \"" + names_.platform_link + "\"";
+    } else if (error.find("base anchor") != std::string::npos || error.find("platform anchor") != std::string::npos) {
+      const bool base = error.find("base anchor") != std::string::npos;
+      params = pnh_.resolveName(base ? "base_anchor_pattern" : "platform_anchor_pattern") + " = \"" +
+               (base ? names_.base_anchor_pattern : names_.platform_anchor_pattern) + "\", " +
+               pnh_.resolveName("anchor_first_index") + " = " + std::to_string(names_.first_index) + ", " +
+               pnh_.resolveName(base ? "base_frame" : "platform_frame") + " = \"" +
+               (base ? names_.base_link : names_.platform_link) + "\"";
+    }
+    error = (params.empty() ? "" : params + ": ") + error + " (URDF from " + key + ")";
     return false;
   }
   if (!loadSensorParameters(pnh_, g, error)) return false;
@@ -146,10 +220,29 @@ void AccuracyCheckerNode::readDefaults() {
   const QueryDefaults builtin;
   // zero_ok: 0 is allowed (otherwise the value must be > 0).
   auto read = [&](const char* key, double fallback, bool zero_ok) {
-    double v = pnh_.param(key, fallback);
+    double v = fallback;
+    std::string error;
+    if (!readOptionalNumber(pnh_, key, v, error)) {
+      ROS_WARN("%s; using %g", error.c_str(), fallback);
+      return fallback;
+    }
     if (!std::isfinite(v) || v < 0.0 || (v == 0.0 && !zero_ok)) {
       ROS_WARN("%s: expected a finite number %s, got %g; using %g", pnh_.resolveName(key).c_str(),
                zero_ok ? ">= 0" : "> 0", v, fallback);
+      v = fallback;
+    }
+    return v;
+  };
+  auto readInt = [&](const char* key, int fallback, int lo, int hi) {
+    int v = fallback;
+    std::string error;
+    if (!readOptionalInteger(pnh_, key, v, error)) {
+      ROS_WARN("%s; using %d", error.c_str(), fallback);
+      return fallback;
+    }
+    if (v < lo || v > hi) {
+      ROS_WARN("%s: expected an integer from %d to %d, got %d; using %d", pnh_.resolveName(key).c_str(), lo, hi, v,
+               fallback);
       v = fallback;
     }
     return v;
@@ -163,36 +256,37 @@ void AccuracyCheckerNode::readDefaults() {
   defaults_.method = pnh_.param<std::string>("default_method", builtin.method);
   const std::vector<std::string> methods = enclosure::enclosureNames();
   if (!defaults_.method.empty() && std::find(methods.begin(), methods.end(), defaults_.method) == methods.end()) {
-    std::string list;
-    for (const auto& m : methods) list += (list.empty() ? "" : ", ") + m;
+    std::string names;
+    for (const auto& m : methods) names += (names.empty() ? "" : ", ") + m;
     ROS_WARN("%s: expected one of %s or \"\", got \"%s\"; using the verifier's default",
-             pnh_.resolveName("default_method").c_str(), list.c_str(), defaults_.method.c_str());
+             pnh_.resolveName("default_method").c_str(), names.c_str(), defaults_.method.c_str());
     defaults_.method = builtin.method;
   }
 
   tf_timeout_s_ = read("tf_timeout", 1.0, true);
-  max_box_markers_ = pnh_.param("max_box_markers", 500);
-  if (max_box_markers_ < 0) {
-    ROS_WARN("%s: expected an integer >= 0, got %d; using 500", pnh_.resolveName("max_box_markers").c_str(),
-             max_box_markers_);
-    max_box_markers_ = 500;
-  }
-  max_safe_box_markers_ = pnh_.param("max_safe_box_markers", 2000);
-  if (max_safe_box_markers_ < 0) {
-    ROS_WARN("%s: expected an integer >= 0, got %d; using 2000", pnh_.resolveName("max_safe_box_markers").c_str(),
-             max_safe_box_markers_);
-    max_safe_box_markers_ = 2000;
-  }
+  client_check_period_s_ = read("client_check_period", 0.5, true);
+  max_box_markers_ = readInt("max_box_markers", 500, 0, 1000000000);
+  max_safe_box_markers_ = readInt("max_safe_box_markers", 2000, 0, 1000000000);
+  max_parallel_jobs_ = readInt("max_parallel_jobs", 1, 1, 64);
+}
 
-  max_parallel_jobs_ = pnh_.param("max_parallel_jobs", 1);
-  if (max_parallel_jobs_ < 1 || max_parallel_jobs_ > 64) {
-    ROS_WARN("%s: expected an integer from 1 to 64, got %d; using 1", pnh_.resolveName("max_parallel_jobs").c_str(),
-             max_parallel_jobs_);
-    max_parallel_jobs_ = 1;
-  }
+std::string AccuracyCheckerNode::robotReport() const {
+  std::ostringstream os;
+  os << "type gough (6-UPS Gough platform), 6 dof (x, y, z, roll, pitch, yaw), " << robot_.legCount() << " legs; from "
+     << (source_ == "yaml" ? "the parameters in " + pnh_.getNamespace() : "the URDF in robot_description")
+     << (robot_file_.empty() ? "" : " (file " + robot_file_ + ")") << "; frames: base " << base_frame_ << ", platform "
+     << platform_frame_ << "; sensor errors " << list(robot_.sensor_error) << " m; tool point "
+     << vec3(robot_.tool_point) << " m";
+  if (!robot_.tool_point_halfwidth.isZero()) os << " +-" << vec3(robot_.tool_point_halfwidth) << " m";
+  os << "; uncertainty half-widths: base anchors " << halfwidths(robot_.base_anchor_halfwidth) << ", platform anchors "
+     << halfwidths(robot_.platform_anchor_halfwidth);
+  return os.str();
 }
 
 bool AccuracyCheckerNode::start(std::string& error) {
+  robot_file_ = pnh_.param<std::string>("robot_file", "");
+  frame_prefix_ = pnh_.param<std::string>("frame_prefix", "");
+  while (!frame_prefix_.empty() && frame_prefix_.front() == '/') frame_prefix_.erase(0, 1);  // (as tf2 names)
   if (!loadRobot(error)) return false;
   try {
     model_.reset(new model::GoughPlatform(robot_));
@@ -200,9 +294,10 @@ bool AccuracyCheckerNode::start(std::string& error) {
     error = std::string("robot: ") + e.what();
     return false;
   }
+  base_frame_ = frame_prefix_ + names_.base_link;
+  platform_frame_ = frame_prefix_ + names_.platform_link;
   readDefaults();
-  ROS_INFO("Loaded robot from %s: %s", source_ == "yaml" ? ("parameters in " + pnh_.getNamespace()).c_str() : "URDF",
-           robot_.summary().c_str());
+  ROS_INFO("Robot: %s", robotReport().c_str());
 
   tf_buffer_.reset(new tf2_ros::Buffer());
   tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh_, /*spin_thread=*/true));
@@ -213,6 +308,14 @@ bool AccuracyCheckerNode::start(std::string& error) {
   cancel_srv_ = pnh_.advertiseService("cancel", &AccuracyCheckerNode::onCancel, this);
   idle_trim_timer_ =
       pnh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { trimWhenIdle(); });
+
+  // /diagnostics (diagnostic_updater: ~diagnostic_period, default 1 s).
+  diagnostics_.reset(new diagnostic_updater::Updater(nh_, pnh_));
+  diagnostics_->setHardwareID(robot_file_.empty() ? "gough robot from " + pnh_.getNamespace()
+                                                  : "gough robot from " + robot_file_);
+  diagnostics_->add("verification jobs", this, &AccuracyCheckerNode::diagnose);
+  diagnostics_timer_ =
+      pnh_.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
 
   ros::NodeHandle verify_nh(nh_);
   verify_nh.setCallbackQueue(&verify_queue_);
@@ -226,15 +329,17 @@ bool AccuracyCheckerNode::start(std::string& error) {
   variety_action_server_ = startActionServer<VerifyVarietyAction>(kVerifyVarietyAction);
   verify_spinner_.reset(new ros::AsyncSpinner(static_cast<std::uint32_t>(max_parallel_jobs_ + 1), &verify_queue_));
   verify_spinner_->start();
+  if (client_check_period_s_ > 0.0) client_watch_ = std::thread([this] { watchClients(); });
 
   if (pnh_.param("publish_anchor_frames", true)) publishAnchorFrames();
-  ROS_INFO("Services: %s, %s, %s, %s, %s; actions: %s, %s, %s; topics: %s, %s, %s (at most %d job(s) at once)",
-           describe_srv_.getService().c_str(), cancel_srv_.getService().c_str(),
-           verify_workspace_srv_.getService().c_str(), verify_trajectory_srv_.getService().c_str(),
-           verify_variety_srv_.getService().c_str(), pnh_.resolveName(kVerifyWorkspaceAction).c_str(),
-           pnh_.resolveName(kVerifyTrajectoryAction).c_str(), pnh_.resolveName(kVerifyVarietyAction).c_str(),
-           verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(), boxes_pub_.getTopic().c_str(),
-           max_parallel_jobs_);
+  ROS_INFO(
+      "Services: %s, %s, %s, %s, %s; actions: %s, %s, %s; topics: %s, %s, %s (at most %d job(s) at once, "
+      "default time budget %g s)",
+      describe_srv_.getService().c_str(), cancel_srv_.getService().c_str(), verify_workspace_srv_.getService().c_str(),
+      verify_trajectory_srv_.getService().c_str(), verify_variety_srv_.getService().c_str(),
+      pnh_.resolveName(kVerifyWorkspaceAction).c_str(), pnh_.resolveName(kVerifyTrajectoryAction).c_str(),
+      pnh_.resolveName(kVerifyVarietyAction).c_str(), verdict_pub_.getTopic().c_str(), progress_pub_.getTopic().c_str(),
+      boxes_pub_.getTopic().c_str(), max_parallel_jobs_, defaults_.time_budget);
   return true;
 }
 
@@ -254,8 +359,9 @@ void AccuracyCheckerNode::publishAnchorFrames() {
   };
   for (std::size_t i = 0; i < robot_.legCount(); ++i) {
     const int index = names_.first_index + static_cast<int>(i);
-    add(names_.base_link, formatAnchorName(names_.base_anchor_pattern, index), robot_.base_anchors[i]);
-    add(names_.platform_link, formatAnchorName(names_.platform_anchor_pattern, index), robot_.platform_anchors[i]);
+    add(base_frame_, frame_prefix_ + formatAnchorName(names_.base_anchor_pattern, index), robot_.base_anchors[i]);
+    add(platform_frame_, frame_prefix_ + formatAnchorName(names_.platform_anchor_pattern, index),
+        robot_.platform_anchors[i]);
   }
   tf_broadcaster_.reset(new tf2_ros::StaticTransformBroadcaster());
   tf_broadcaster_->sendTransform(transforms);
@@ -266,8 +372,8 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
     res = Describe::Response();
     res.version = pkm_accuracy::version();
     res.robot_source = source_;
-    res.base_frame = names_.base_link;
-    res.platform_frame = names_.platform_link;
+    res.base_frame = base_frame_;
+    res.platform_frame = platform_frame_;
     for (const auto& a : robot_.base_anchors) res.base_anchors.push_back(toPoint(a));
     for (const auto& b : robot_.platform_anchors) res.platform_anchors.push_back(toPoint(b));
     res.sensor_error = robot_.sensor_error;
@@ -293,7 +399,12 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
 }
 
 std::shared_ptr<AccuracyCheckerNode::Job> AccuracyCheckerNode::admit(WorkspaceOutcome& refusal,
-                                                                     const std::string& goal_id) {
+                                                                     const std::string& client,
+                                                                     const std::string& goal_id,
+                                                                     const std::string& action) {
+  // The caller's address, looked up before taking the lock (a master round trip); not for this node's own calls.
+  const std::string uri =
+      client_check_period_s_ > 0.0 && client != ros::this_node::getName() ? lookupNodeUri(client) : std::string();
   std::lock_guard<std::mutex> lock(jobs_mutex_);
   if (shutting_down_) {
     refusal.message = "the node is shutting down";
@@ -306,26 +417,38 @@ std::shared_ptr<AccuracyCheckerNode::Job> AccuracyCheckerNode::admit(WorkspaceOu
        << "):";
     const ros::WallTime now = ros::WallTime::now();
     for (const auto& j : jobs_) {
-      os << " job " << j.first << (j.second->goal_id.empty() ? "" : " (action goal)") << " for "
-         << (now - j.second->started).toSec() << " s;";
+      os << " job " << j.first << (j.second->goal_id.empty() ? "" : " (action goal)")
+         << (j.second->client.empty() ? "" : " of " + j.second->client) << " for " << (now - j.second->started).toSec()
+         << " s;";
     }
     os << " retry later, or stop them with " << pnh_.resolveName("cancel");
     refusal.busy = true;
     refusal.message = os.str();
+    ++busy_answers_;
     return nullptr;
   }
   auto job = std::make_shared<Job>();
   job->id = ++last_job_id_;
   job->goal_id = goal_id;
+  job->action = action;
+  job->client = client;
+  job->client_uri = uri;
   job->started = ros::WallTime::now();
   jobs_[job->id] = job;
   return job;
 }
 
-void AccuracyCheckerNode::finish(const std::shared_ptr<Job>& job) {
-  std::lock_guard<std::mutex> lock(jobs_mutex_);
-  jobs_.erase(job->id);
-  trim_pending_ = true;
+void AccuracyCheckerNode::finish(const std::shared_ptr<Job>& job, const WorkspaceOutcome& outcome) {
+  {
+    std::lock_guard<std::mutex> lock(jobs_mutex_);
+    jobs_.erase(job->id);
+    trim_pending_ = true;
+    ++jobs_finished_;
+    last_verdict_ = outcome.success ? outcome.verdict + (outcome.reason.empty() ? "" : " (" + outcome.reason + ")")
+                                    : "failed: " + outcome.message;
+    last_verdict_time_ = ros::WallTime::now();
+  }
+  jobs_changed_.notify_all();
 }
 
 void AccuracyCheckerNode::trimWhenIdle() {
@@ -339,14 +462,74 @@ void AccuracyCheckerNode::trimWhenIdle() {
   malloc_trim(0);
 }
 
+void AccuracyCheckerNode::watchClients() {
+  const auto period = std::chrono::duration<double>(client_check_period_s_);
+  std::unique_lock<std::mutex> lock(jobs_mutex_);
+  while (!shutting_down_) {
+    jobs_changed_.wait_for(lock, period);
+    if (shutting_down_) break;
+    std::vector<std::shared_ptr<Job>> watched;
+    for (const auto& j : jobs_) {
+      if (!j.second->client_uri.empty() && !j.second->cancel) watched.push_back(j.second);
+    }
+    lock.unlock();
+    for (const auto& job : watched) {
+      const Liveness l = probeUri(job->client_uri, 0.2);
+      job->gone_probes = l == Liveness::Gone ? job->gone_probes + 1 : 0;
+      if (job->gone_probes >= 2) {
+        job->stop(StopCause::ClientGone);
+        ROS_WARN("job %lu: its client %s is gone (%s refuses connections): stopping it",
+                 static_cast<unsigned long>(job->id), job->client.c_str(), job->client_uri.c_str());
+        std::lock_guard<std::mutex> relock(jobs_mutex_);
+        ++jobs_client_gone_;
+      }
+    }
+    lock.lock();
+  }
+}
+
+void AccuracyCheckerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(jobs_mutex_);
+  const std::uint64_t busy_since = busy_answers_ - busy_reported_;
+  busy_reported_ = busy_answers_;
+  if (busy_since > 0) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                  "%lu request(s) refused busy since the last report; %lu of %d job slot(s) in use",
+                  static_cast<unsigned long>(busy_since), static_cast<unsigned long>(jobs_.size()), max_parallel_jobs_);
+  } else {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::OK, "robot loaded; %lu of %d job slot(s) in use",
+                  static_cast<unsigned long>(jobs_.size()), max_parallel_jobs_);
+  }
+  stat.add("robot loaded", "true");
+  stat.add("robot", robot_.summary());
+  stat.add("robot source", source_);
+  stat.add("robot file", robot_file_);
+  stat.add("base frame", base_frame_);
+  stat.add("jobs running", jobs_.size());
+  stat.add("job slots", max_parallel_jobs_);
+  stat.add("jobs finished", jobs_finished_);
+  stat.add("busy answers", busy_answers_);
+  stat.add("jobs stopped, client gone", jobs_client_gone_);
+  stat.add("goals preempted", goals_preempted_);
+  stat.add("default time budget (s)", defaults_.time_budget);
+  stat.add("last verdict", last_verdict_);
+  if (last_verdict_.empty()) {
+    stat.add("last verdict age (s)", "");
+  } else {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(3) << (ros::WallTime::now() - last_verdict_time_).toSec();
+    stat.add("last verdict age (s)", os.str());
+  }
+}
+
 bool AccuracyCheckerNode::resolveFrame(WorkspaceQuery& query, std::string& error) {
   query.has_transform = false;
   if (query.frame_id.empty()) return true;
   geometry_msgs::TransformStamped t;
   try {
-    t = tf_buffer_->lookupTransform(names_.base_link, query.frame_id, ros::Time(0), ros::Duration(tf_timeout_s_));
+    t = tf_buffer_->lookupTransform(base_frame_, query.frame_id, ros::Time(0), ros::Duration(tf_timeout_s_));
   } catch (const tf2::TransformException& e) {
-    error = "frame_id: no transform from frame \"" + query.frame_id + "\" to the base frame \"" + names_.base_link +
+    error = "frame_id: no transform from frame \"" + query.frame_id + "\" to the base frame \"" + base_frame_ +
             "\" within " + seconds(tf_timeout_s_) + " s (~tf_timeout); tf2 says: " + e.what();
     return false;
   }
@@ -355,7 +538,7 @@ bool AccuracyCheckerNode::resolveFrame(WorkspaceQuery& query, std::string& error
   const Eigen::Quaterniond q(r.w, r.x, r.y, r.z);
   const Eigen::Vector3d translation(p.x, p.y, p.z);
   if (!q.coeffs().allFinite() || q.norm() == 0.0 || !translation.allFinite()) {
-    error = "frame_id: the transform from frame \"" + query.frame_id + "\" to \"" + names_.base_link +
+    error = "frame_id: the transform from frame \"" + query.frame_id + "\" to \"" + base_frame_ +
             "\" in tf2 is not finite or has a zero quaternion";
     return false;
   }
@@ -372,7 +555,7 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
   WorkspaceOutcome outcome;
   try {
     const std::string mode = modeName(query.mode);
-    const std::string frame = query.frame_id.empty() ? names_.base_link : query.frame_id;
+    const std::string frame = query.frame_id.empty() ? base_frame_ : query.frame_id;
     if (query.domain == QueryDomain::Variety) {
       std::size_t terms = 0;
       for (const auto& c : query.variety.coordinates) terms += c.size();
@@ -391,11 +574,8 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
                mode.c_str(), toString(query.workspace.position.type).c_str(), frame.c_str());
     }
 
-    std::string error;
     query.record_safe_boxes = static_cast<std::size_t>(max_safe_box_markers_);  // (for ~boxes)
-    if (!resolveFrame(query, error)) {
-      outcome.message = error;
-    } else {
+    {
       JobHooks hooks;
       hooks.cancel = &job->cancel;
       const bool publish_progress = progress_period_s_ > 0.0;
@@ -404,7 +584,7 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
         hooks.progress = [this, id, mode, &query, publish_progress, &feedback](const verify::Progress& p) {
           Progress msg;
           msg.header.stamp = ros::Time::now();
-          msg.header.frame_id = names_.base_link;
+          msg.header.frame_id = base_frame_;
           msg.job_id = id;
           msg.mode = mode;
           msg.time_budget = query.time_budget;
@@ -436,7 +616,7 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
     if (progress_period_s_ > 0.0 && outcome.success) {
       Progress last;
       last.header.stamp = result.header.stamp;
-      last.header.frame_id = names_.base_link;
+      last.header.frame_id = base_frame_;
       last.job_id = id;
       last.mode = mode;
       last.time_budget = query.time_budget;
@@ -459,13 +639,15 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
       // variety's parameter grid (its boxes are parameter boxes).
       const ros::Time& stamp = result.header.stamp;
       boxes_pub_.publish(
-          query.domain == QueryDomain::Trajectory ? makeTrajectoryMarkers(query, outcome, names_.base_link, stamp)
+          query.domain == QueryDomain::Trajectory ? makeTrajectoryMarkers(query, outcome, base_frame_, stamp)
           : query.domain == QueryDomain::Variety
-              ? makeVarietyMarkers(query, outcome, names_.base_link, stamp)
-              : makeJobMarkers(query, outcome, names_.base_link, stamp, static_cast<std::size_t>(max_box_markers_)));
-      ROS_INFO("%s: job %lu: %s%s%s in %.3f s, %lu boxes: %s", via.c_str(), static_cast<unsigned long>(id),
+              ? makeVarietyMarkers(query, outcome, base_frame_, stamp)
+              : makeJobMarkers(query, outcome, base_frame_, stamp, static_cast<std::size_t>(max_box_markers_)));
+      const std::string cause = stopCauseText(job->cause);
+      ROS_INFO("%s: job %lu: %s%s%s in %.3f s, %lu boxes: %s%s", via.c_str(), static_cast<unsigned long>(id),
                outcome.verdict.c_str(), outcome.reason.empty() ? "" : " ", outcome.reason.c_str(), outcome.seconds,
-               static_cast<unsigned long>(outcome.boxes), outcome.message.c_str());
+               static_cast<unsigned long>(outcome.boxes), outcome.message.c_str(),
+               cause.empty() ? "" : (" (" + cause + ")").c_str());
     } else {
       ROS_WARN("%s: job %lu: %s", via.c_str(), static_cast<unsigned long>(id), outcome.message.c_str());
     }
@@ -480,51 +662,62 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
     outcome.message = "verification failed: unknown exception";
     ROS_ERROR("%s: %s", via.c_str(), outcome.message.c_str());
   }
-  finish(job);
+  finish(job, outcome);
   return outcome;
 }
 
 template <class Srv>
-bool AccuracyCheckerNode::onVerify(typename Srv::Request& req, typename Srv::Response& res, const char* name) {
+bool AccuracyCheckerNode::onVerify(Event<Srv>& event, const char* name) {
+  typename Srv::Response& res = event.getResponse();
+  const std::string via = nh_.resolveName(name);
   try {
     res = typename Srv::Response();
     WorkspaceQuery query;
     std::string error;
-    if (!fromRequest(req, names_.base_link, defaults_, query, error)) {
+    if (!fromRequest(event.getRequest(), base_frame_, defaults_, query, error)) {
       res.message = "invalid request: " + error;
-      ROS_WARN("%s: %s", name, res.message.c_str());
+      ROS_WARN("%s: %s", via.c_str(), res.message.c_str());
+      return true;
+    }
+    if (!resolveFrame(query, error)) {  // (before admission: the tf2 wait holds no slot)
+      res.message = error;
+      ROS_WARN("%s: %s", via.c_str(), res.message.c_str());
       return true;
     }
     WorkspaceOutcome outcome;
-    const std::shared_ptr<Job> job = admit(outcome);
+    const std::shared_ptr<Job> job = admit(outcome, event.getCallerName());
     if (!job) {
       toResponse(outcome, res);
-      ROS_WARN("%s: %s", name, res.message.c_str());
+      ROS_WARN("%s: %s", via.c_str(), res.message.c_str());
       return true;
     }
-    toResponse(runJob(job, query, name, nullptr), res);
+    toResponse(runJob(job, query, via, nullptr), res);
+    if (job->cause == StopCause::ClientGone) {
+      ROS_WARN("%s: job %lu stopped because its client %s is gone; nobody receives its answer", via.c_str(),
+               static_cast<unsigned long>(job->id), job->client.c_str());
+    }
   } catch (const std::exception& e) {
     res = typename Srv::Response();
     res.message = std::string("verification failed: ") + e.what();
-    ROS_ERROR("%s: %s", name, res.message.c_str());
+    ROS_ERROR("%s: %s", via.c_str(), res.message.c_str());
   } catch (...) {
     res = typename Srv::Response();
     res.message = "verification failed: unknown exception";
-    ROS_ERROR("%s: %s", name, res.message.c_str());
+    ROS_ERROR("%s: %s", via.c_str(), res.message.c_str());
   }
   return true;  // the answer is in success/message; never make the client see a transport error
 }
 
-bool AccuracyCheckerNode::onVerifyWorkspace(VerifyWorkspace::Request& req, VerifyWorkspace::Response& res) {
-  return onVerify<VerifyWorkspace>(req, res, kVerifyWorkspaceService);
+bool AccuracyCheckerNode::onVerifyWorkspace(Event<VerifyWorkspace>& event) {
+  return onVerify<VerifyWorkspace>(event, kVerifyWorkspaceService);
 }
 
-bool AccuracyCheckerNode::onVerifyTrajectory(VerifyTrajectory::Request& req, VerifyTrajectory::Response& res) {
-  return onVerify<VerifyTrajectory>(req, res, kVerifyTrajectoryService);
+bool AccuracyCheckerNode::onVerifyTrajectory(Event<VerifyTrajectory>& event) {
+  return onVerify<VerifyTrajectory>(event, kVerifyTrajectoryService);
 }
 
-bool AccuracyCheckerNode::onVerifyVariety(VerifyVariety::Request& req, VerifyVariety::Response& res) {
-  return onVerify<VerifyVariety>(req, res, kVerifyVarietyService);
+bool AccuracyCheckerNode::onVerifyVariety(Event<VerifyVariety>& event) {
+  return onVerify<VerifyVariety>(event, kVerifyVarietyService);
 }
 
 bool AccuracyCheckerNode::onCancel(Cancel::Request& req, Cancel::Response& res) {
@@ -532,7 +725,7 @@ bool AccuracyCheckerNode::onCancel(Cancel::Request& req, Cancel::Response& res) 
   std::lock_guard<std::mutex> lock(jobs_mutex_);
   for (auto& j : jobs_) {
     if (req.job_id != 0 && j.first != req.job_id) continue;
-    j.second->cancel = true;
+    j.second->stop(StopCause::CancelService);
     res.cancelled.push_back(j.first);
   }
   res.success = !res.cancelled.empty();
@@ -561,6 +754,26 @@ std::unique_ptr<actionlib::ActionServer<Action>> AccuracyCheckerNode::startActio
   return server;
 }
 
+std::size_t AccuracyCheckerNode::preemptGoalsOf(const std::string& client, const char* name, double timeout_s) {
+  std::unique_lock<std::mutex> lock(jobs_mutex_);
+  std::vector<std::uint64_t> stopped;
+  for (auto& j : jobs_) {
+    if (j.second->action != name || j.second->client != client) continue;
+    j.second->stop(StopCause::Preempted);
+    stopped.push_back(j.first);
+  }
+  goals_preempted_ += stopped.size();
+  if (stopped.empty()) return 0;
+  ROS_INFO("%s: a new goal of %s preempts its running goal(s) (job %lu%s)", pnh_.resolveName(name).c_str(),
+           client.c_str(), static_cast<unsigned long>(stopped.front()), stopped.size() > 1 ? ", ..." : "");
+  // A cancelled job ends within milliseconds; wait for its slot so that the new goal is not refused busy.
+  jobs_changed_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
+    return shutting_down_ ||
+           std::none_of(stopped.begin(), stopped.end(), [&](std::uint64_t id) { return jobs_.count(id) > 0; });
+  });
+  return stopped.size();
+}
+
 template <class Action>
 void AccuracyCheckerNode::onGoal(actionlib::ServerGoalHandle<Action> gh, const char* name) {
   using Result = typename Action::_action_result_type::_result_type;
@@ -569,14 +782,24 @@ void AccuracyCheckerNode::onGoal(actionlib::ServerGoalHandle<Action> gh, const c
   try {
     WorkspaceQuery query;
     std::string error;
-    if (!fromRequest(toRequest(*gh.getGoal()), names_.base_link, defaults_, query, error)) {
+    if (!fromRequest(toRequest(*gh.getGoal()), base_frame_, defaults_, query, error)) {
       result.message = "invalid request: " + error;
       ROS_WARN("%s: goal rejected: %s", via.c_str(), result.message.c_str());
       gh.setRejected(result, result.message);
       return;
     }
+    if (!resolveFrame(query, error)) {  // (before admission: the tf2 wait holds no slot)
+      result.message = error;
+      ROS_WARN("%s: goal rejected: %s", via.c_str(), result.message.c_str());
+      gh.setRejected(result, result.message);
+      return;
+    }
+    // The SimpleActionServer habit, per client: a client's new goal replaces its running goal on this action (a
+    // SimpleActionClient that sends a new goal has dropped the old one). Goals of other clients are not touched.
+    const std::string client = goalClient(gh.getGoalID().id);
+    if (!client.empty()) preemptGoalsOf(client, name, 5.0);
     WorkspaceOutcome refusal;
-    const std::shared_ptr<Job> job = admit(refusal, std::string(name) + " " + gh.getGoalID().id);
+    const std::shared_ptr<Job> job = admit(refusal, client, std::string(name) + " " + gh.getGoalID().id, name);
     if (!job) {
       toResult(refusal, result);
       ROS_WARN("%s: goal rejected: %s", via.c_str(), result.message.c_str());
@@ -585,10 +808,7 @@ void AccuracyCheckerNode::onGoal(actionlib::ServerGoalHandle<Action> gh, const c
     }
     gh.setAccepted("job " + std::to_string(job->id));
     // A goal cancelled before it was accepted is now PREEMPTING: it stops at once with the partial result.
-    if (gh.getGoalStatus().status == actionlib_msgs::GoalStatus::PREEMPTING) {
-      job->client_cancel = true;
-      job->cancel = true;
-    }
+    if (gh.getGoalStatus().status == actionlib_msgs::GoalStatus::PREEMPTING) job->stop(StopCause::ClientCancel);
     reapActionThreads(false);
     auto done = std::make_shared<std::atomic<bool>>(false);
     std::lock_guard<std::mutex> lock(threads_mutex_);
@@ -620,11 +840,22 @@ void AccuracyCheckerNode::runGoal(const std::shared_ptr<Job>& job, const Workspa
   });
   Result result;
   toResult(outcome, result);
+  const StopCause cause = job->cause;
   if (outcome.success && outcome.reason == verify::toString(verify::UndecidedReason::Cancelled)) {
-    if (job->client_cancel) {
-      gh.setCanceled(result, "cancelled by the client: " + outcome.message);
-    } else {
-      gh.setAborted(result, "stopped by " + pnh_.resolveName("cancel") + " or the node's shutdown: " + outcome.message);
+    switch (cause) {
+      case StopCause::ClientCancel:
+        gh.setCanceled(result, "cancelled by the client: " + outcome.message);
+        break;
+      case StopCause::Preempted:
+        gh.setCanceled(result, "preempted by a newer goal of the same client: " + outcome.message);
+        break;
+      case StopCause::ClientGone:
+        gh.setAborted(result, "the client " + job->client + " is gone: " + outcome.message);
+        break;
+      default:
+        gh.setAborted(result,
+                      "stopped by " + pnh_.resolveName("cancel") + " or the node's shutdown: " + outcome.message);
+        break;
     }
   } else if (outcome.success) {
     gh.setSucceeded(result, outcome.verdict + ": " + outcome.message);
@@ -638,8 +869,7 @@ void AccuracyCheckerNode::onGoalCancel(const std::string& goal_id, const char* n
   std::lock_guard<std::mutex> lock(jobs_mutex_);
   for (auto& j : jobs_) {
     if (j.second->goal_id != key) continue;
-    j.second->client_cancel = true;
-    j.second->cancel = true;
+    j.second->stop(StopCause::ClientCancel);
     ROS_INFO("%s: the client cancels job %lu", pnh_.resolveName(name).c_str(), static_cast<unsigned long>(j.first));
   }
 }

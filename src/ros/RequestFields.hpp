@@ -40,7 +40,7 @@ bool geometryForm(const std::string& requested, std::string& out, std::string& e
 bool stallLevels(std::int32_t requested, int& out, std::string& error);
 constexpr std::int32_t kMaxStallLevels = 1000;
 
-/// `thresholds`: six numbers > 0 (m, m, m, rad, rad, rad; +inf allowed); in max-error mode all six may be 0
+/// `thresholds`: six numbers > 0 (m, m, m, rad, rad, rad; +inf allowed); in max_error mode all six may be 0
 /// ("none given", then `given` is false).
 template <class Array>
 bool thresholds(const Array& requested, bool maxError, std::array<double, 6>& out, bool& given, std::string& error) {
@@ -59,6 +59,13 @@ bool thresholds(const Array& requested, bool maxError, std::array<double, 6>& ou
     out[k] = t;
   }
   return true;
+}
+
+/// `frame_id` as tf2 names it (tf2 drops a leading '/', so "/base_link" is "base_link"), or "" for the base frame.
+inline std::string frameId(const std::string& requested, const std::string& base_frame) {
+  std::string f = requested;
+  while (!f.empty() && f.front() == '/') f.erase(0, 1);
+  return f == base_frame ? std::string() : f;
 }
 
 /// `mode`: "" or "verify" (Verify), "max_error" (MaxError).

@@ -344,8 +344,8 @@ bool readOptionalInteger(const ros::NodeHandle& nh, const std::string& key, int&
   if (!nh.getParam(key, v)) return true;  // keep the default
   int x = 0;
   if (!parameterInteger(v, x)) {
-    error = nh.resolveName(key) + ": expected an integer (or a string holding one, e.g. \"2\"), got " +
-            describeValue(v);
+    error =
+        nh.resolveName(key) + ": expected an integer (or a string holding one, e.g. \"2\"), got " + describeValue(v);
     return false;
   }
   out = x;

@@ -125,7 +125,7 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
   WorkspaceQuery q;
   q.domain = QueryDomain::Trajectory;
   // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
-  q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
+  q.frame_id = fields::frameId(req.frame_id, base_frame);
   if (!fields::mode(req.mode, q.mode, error)) return false;
   if (req.polynomial_segments.empty() ? !readWaypoints(req, q.trajectory, error)
                                       : !readPolynomialSegments(req, q.trajectory, error)) {

@@ -55,7 +55,7 @@ bool fromRequest(const VerifyVariety::Request& req, const std::string& base_fram
   WorkspaceQuery q;
   q.domain = QueryDomain::Variety;
   // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
-  q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
+  q.frame_id = fields::frameId(req.frame_id, base_frame);
   if (!fields::mode(req.mode, q.mode, error)) return false;
   if (req.parameters < 1 || req.parameters > static_cast<std::uint32_t>(kMaxDof)) {
     error = "parameters: expected the number of parameters of the variety, 1 to " + std::to_string(kMaxDof) + ", got " +

@@ -8,6 +8,9 @@
 #include <sstream>
 #include <vector>
 
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/PositionRegion.hpp"
+#include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/ros/CoreBridge.hpp"
 
@@ -113,6 +116,14 @@ bool readRegion(const VerifyWorkspace::Request& req, PositionRegion& r, std::str
       r.halfspace_normals.push_back(v);
       r.halfspace_offsets.push_back(req.halfspace_offsets[j]);
     }
+    // The core refuses a polyhedron it proves empty (a verification over it would be vacuous): before the request
+    // becomes a job.
+    try {
+      domain::PositionRegion::polyhedron(r.halfspace_normals, r.halfspace_offsets, r.box_min, r.box_max);
+    } catch (const InvalidArgument& e) {
+      error = std::string("halfspace_normals, halfspace_offsets: ") + e.what();
+      return false;
+    }
   }
   return true;
 }
@@ -122,7 +133,7 @@ bool readRegion(const VerifyWorkspace::Request& req, PositionRegion& r, std::str
 bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
                  WorkspaceQuery& out, std::string& error) {
   WorkspaceQuery q;
-  q.frame_id = req.frame_id == base_frame ? "" : req.frame_id;
+  q.frame_id = fields::frameId(req.frame_id, base_frame);
   if (!fields::mode(req.mode, q.mode, error)) return false;
   if (!readRegion(req, q.workspace.position, error)) return false;
 
@@ -133,6 +144,14 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
     if (!ordered(angle_min[k], angle_max[k], std::string(names[k]) + "_min", std::string(names[k]) + "_max", "rad",
                  error)) {
       return false;
+    }
+    for (const auto& [value, field] : {std::make_pair(angle_min[k], std::string(names[k]) + "_min"),
+                                       std::make_pair(angle_max[k], std::string(names[k]) + "_max")}) {
+      if (std::fabs(value) > domain::Workspace::kMaxAngle) {
+        error = field + ": expected an angle within [-2 pi, 2 pi] (rad; angles are periodic, so such a range covers " +
+                "every orientation), got " + num(value);
+        return false;
+      }
     }
     q.workspace.angle_min[k] = angle_min[k];
     q.workspace.angle_max[k] = angle_max[k];

@@ -22,8 +22,9 @@ struct Ref6 {
 
 inline std::string sourcePath(const std::string& rel) { return std::string(PKM_SOURCE_DIR) + "/" + rel; }
 
-inline Ref6 loadRef6() {
-  const YAML::Node y = YAML::LoadFile(sourcePath("config/ref6.yaml"));
+/// A Gough robot file (the keys of config/ref6.yaml; tool_point optional), `rel` to the source directory.
+inline Ref6 loadRef6(const std::string& rel = "config/ref6.yaml") {
+  const YAML::Node y = YAML::LoadFile(sourcePath(rel));
   Ref6 r;
   auto points = [](const YAML::Node& n) {
     std::vector<Eigen::Vector3d> out;
@@ -34,7 +35,7 @@ inline Ref6 loadRef6() {
   r.platform_anchors = points(y["platform_anchors"]);
   for (const auto& e : y["sensor_error"]) r.sensor_error.push_back(e.as<double>());
   const YAML::Node c = y["tool_point"];
-  r.tool_point = Eigen::Vector3d(c[0].as<double>(), c[1].as<double>(), c[2].as<double>());
+  if (c) r.tool_point = Eigen::Vector3d(c[0].as<double>(), c[1].as<double>(), c[2].as<double>());
   return r;
 }
 

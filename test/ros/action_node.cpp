@@ -1,7 +1,7 @@
 // rostest (action.test): the ~verify_workspace action. Its goal and result are the service's request and response
 // field for field (same checksums; the node's conversions copy every field); goals succeed with the service's
 // verdicts, invalid goals are rejected naming the field, a running goal publishes feedback, shares the job limit with
-// the service (busy answers to both), stops promptly on cancel with its partial result (PREEMPTED, UNDECIDED,
+// the service (busy answer), stops promptly on cancel with its partial result (PREEMPTED, UNDECIDED,
 // "cancelled"), and is aborted by ~cancel. ~boxes draws every finished job: the workspace, the witness of an UNSAFE
 // verdict, the undecided boxes of a cancelled one.
 #include <atomic>
@@ -182,12 +182,13 @@ TEST(Action, InvalidGoalsAreRejectedNamingTheField) {
   ASSERT_TRUE(client().getResult());
   EXPECT_NE(client().getResult()->message.find("stall_levels"), std::string::npos) << client().getResult()->message;
 
-  // A frame unknown to tf2: accepted as a job, aborted after the lookup, naming it.
+  // A frame unknown to tf2: rejected after the lookup (which happens before the goal takes a job slot), naming it.
   req = smallRequest(kGenerous);
   req.frame_id = "nowhere";
   state = client().sendGoalAndWait(goalOf(req), ros::Duration(10.0));
-  EXPECT_EQ(state, State::ABORTED) << state.toString();
+  EXPECT_EQ(state, State::REJECTED) << state.toString();
   EXPECT_FALSE(client().getResult()->success);
+  EXPECT_EQ(client().getResult()->job_id, 0u);
   EXPECT_NE(client().getResult()->message.find("frame_id: no transform from frame \"nowhere\""), std::string::npos)
       << client().getResult()->message;
 }
@@ -201,17 +202,12 @@ TEST(Action, FeedbackSharedJobLimitAndPromptCancelWithThePartialResult) {
   ASSERT_TRUE(log.waitForBoxes(15.0)) << "no feedback with boxes > 0";
   EXPECT_EQ(client().getState(), State::ACTIVE);
 
-  // The running goal counts against ~max_parallel_jobs = 1 for both interfaces.
+  // The running goal counts against ~max_parallel_jobs = 1 for both interfaces (a goal of another client is
+  // refused busy as well: clients.test; a goal of this client would preempt it).
   const auto busy = verify(smallRequest(kGenerous));
   EXPECT_FALSE(busy.success);
   EXPECT_TRUE(busy.busy);
   EXPECT_NE(busy.message.find("action goal"), std::string::npos) << busy.message;
-  Client other(kAction, true);
-  ASSERT_TRUE(other.waitForServer(ros::Duration(10.0)));
-  const State refused = other.sendGoalAndWait(goalOf(smallRequest(kGenerous)), ros::Duration(10.0));
-  EXPECT_EQ(refused, State::REJECTED) << refused.toString();
-  ASSERT_TRUE(other.getResult());
-  EXPECT_TRUE(other.getResult()->busy);
 
   // Cancel: the job stops promptly and the goal ends PREEMPTED with what it had.
   const ros::WallTime t0 = ros::WallTime::now();

@@ -12,6 +12,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -201,6 +202,41 @@ TEST(Frames, BaseFrameByNameIsTheBaseFrame) {
   ASSERT_TRUE(b.success) << b.message;
   EXPECT_EQ(b.verdict, "SAFE");
   EXPECT_EQ(b.boxes, a.boxes);  // the same search
+  // tf2 drops a leading '/': "/base_link" is the base frame too, and "/work" the frame work.
+  req.frame_id = "/base_link";
+  const auto c = verify(req);
+  ASSERT_TRUE(c.success) << c.message;
+  EXPECT_EQ(c.boxes, a.boxes);
+  req.frame_id = "/work";
+  const auto d = verify(req);
+  req.frame_id = "work";
+  const auto e = verify(req);
+  ASSERT_TRUE(d.success) << d.message;
+  ASSERT_TRUE(e.success) << e.message;
+  EXPECT_EQ(d.boxes, e.boxes);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(d.upper_bound[k], e.upper_bound[k]) << k;
+}
+
+// The lookup of a request's frame (up to ~tf_timeout = 1 s) happens before the request takes a job slot: with
+// ~max_parallel_jobs = 1, another request runs while it waits.
+TEST(Frames, WaitingForAFrameHoldsNoJobSlot) {
+  VerifyWorkspace::Response waiting;
+  std::thread t([&] {
+    auto req = smallRequest(kGenerous);
+    req.frame_id = "appears_never";
+    waiting = verify(req);
+  });
+  ros::WallDuration(0.3).sleep();
+  const ros::WallTime t0 = ros::WallTime::now();
+  const auto other = verify(smallRequest(kGenerous));
+  const double other_s = (ros::WallTime::now() - t0).toSec();
+  t.join();
+  EXPECT_TRUE(other.success) << other.message;
+  EXPECT_FALSE(other.busy) << other.message;
+  EXPECT_LT(other_s, 0.6) << "the request waited behind the frame lookup";
+  EXPECT_FALSE(waiting.success);
+  EXPECT_EQ(waiting.job_id, 0u) << "a request whose frame is unknown is refused before it becomes a job";
+  EXPECT_NE(waiting.message.find("appears_never"), std::string::npos) << waiting.message;
 }
 
 TEST(Frames, TiltedFrameGivesTheVerdictsOfTheBaseFrame) {

@@ -2,6 +2,8 @@
 // case: valid input (the reference robot loaded by the .test file, scalars, integers, options) and invalid input
 // (the message must name the parameter, the expected and the actual value). Also: a node whose robot cannot be
 // loaded refuses to start.
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -439,6 +441,43 @@ TEST(Node, RefusesToStartWithoutARobot) {
     std::string error;
     EXPECT_FALSE(node.start(error));
     EXPECT_NE(error.find("robot_description"), std::string::npos) << error;
+  }
+  // A URDF without the links the parameters name: the message names the parameters (not only robot_description).
+  std::string urdf;
+  {
+    std::ifstream f(pkm_accuracy_test::sourcePath("urdf/ref6.urdf"));
+    urdf.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  }
+  ASSERT_FALSE(urdf.empty());
+  {
+    ros::NodeHandle pnh = refRobotIn("node_urdf_base_frame");
+    pnh.setParam("robot_source", std::string("urdf"));
+    pnh.setParam("robot_description", urdf);
+    pnh.setParam("base_frame", std::string("base_plate"));
+    pkm_accuracy::ros_layer::AccuracyCheckerNode node(ros::NodeHandle(), pnh);
+    std::string error;
+    EXPECT_FALSE(node.start(error));
+    EXPECT_NE(error.find("/loader_test/node_urdf_base_frame/base_frame = \"base_plate\""), std::string::npos) << error;
+    EXPECT_NE(error.find("robot_description"), std::string::npos) << error;
+  }
+  {
+    ros::NodeHandle pnh = refRobotIn("node_urdf_first_index");
+    pnh.setParam("robot_source", std::string("urdf"));
+    pnh.setParam("robot_description", urdf);
+    pnh.setParam("anchor_first_index", 0);  // the URDF numbers its anchors 1..6
+    pkm_accuracy::ros_layer::AccuracyCheckerNode node(ros::NodeHandle(), pnh);
+    std::string error;
+    EXPECT_FALSE(node.start(error));
+    EXPECT_NE(error.find("/loader_test/node_urdf_first_index/anchor_first_index = 0"), std::string::npos) << error;
+    EXPECT_NE(error.find("base_anchor_0"), std::string::npos) << error;
+  }
+  {
+    ros::NodeHandle pnh = refRobotIn("node_urdf_ok");
+    pnh.setParam("robot_source", std::string("urdf"));
+    pnh.setParam("robot_description", urdf);
+    pkm_accuracy::ros_layer::AccuracyCheckerNode node(ros::NodeHandle("node_urdf_ok_ns"), pnh);
+    std::string error;
+    EXPECT_TRUE(node.start(error)) << error;
   }
   EXPECT_FALSE(ros::service::exists("/verify_workspace", false)) << "nothing may be advertised without a robot";
 }

@@ -292,11 +292,12 @@ TEST(VerifyVariety, MalformedFieldsAreRefusedByNameAndTheNodeKeepsServing) {
   r.geometry_form = "flat";
   expectRefused(r, "geometry_form");
 
-  // An unknown frame: success false naming frame_id (the job ran its lookup, so it has a number).
+  // An unknown frame: success false naming frame_id (the lookup comes before the request becomes a job: no number).
   r = surface(generous);
   r.frame_id = "nowhere";
   const VerifyVariety::Response unknown = call(r);
   EXPECT_FALSE(unknown.success);
+  EXPECT_EQ(unknown.job_id, 0u);
   EXPECT_NE(unknown.message.find("frame_id"), std::string::npos) << unknown.message;
 
   // The node still answers.

@@ -263,6 +263,14 @@ TEST(VerifyWorkspace, OtherRegionsAndMethods) {
   ASSERT_TRUE(r.has_witness);
   EXPECT_LE(r.witness_pose[0] + r.witness_pose[1], 0.005);
 
+  // Angle ranges up to 2 pi: a whole turn, also written in [0, 2 pi], is a range like any other.
+  auto turn = smallRequest(kGenerous);
+  turn.yaw_min = 0.0;
+  turn.yaw_max = 6.283185307179586;
+  turn.time_budget = 2.0;
+  r = verify(turn);
+  EXPECT_TRUE(r.success) << r.message;
+
   // .inf = this component is not checked.
   auto inf = smallRequest(kTiny);
   inf.thresholds = {kInf, kInf, kInf, kInf, kInf, kInf};
@@ -428,6 +436,16 @@ TEST(VerifyWorkspace, EveryMalformedFieldIsRefusedNamingItAndTheNodeKeepsServing
       {"roll_min", [](VerifyWorkspace::Request& r) { r.roll_min = kNaN; }},
       {"pitch_min", [](VerifyWorkspace::Request& r) { r.pitch_min = 1.0; }},  // inverted
       {"yaw_max", [](VerifyWorkspace::Request& r) { r.yaw_max = kInf; }},
+      {"roll_max", [](VerifyWorkspace::Request& r) { r.roll_max = 7.0; }},     // beyond 2 pi
+      {"yaw_min", [](VerifyWorkspace::Request& r) { r.yaw_min = -15.0; }},     // degrees for radians
+      {"pitch_max", [](VerifyWorkspace::Request& r) { r.pitch_max = 90.0; }},  // degrees for radians
+      {"halfspace_offsets",
+       [](VerifyWorkspace::Request& r) {  // x + y <= -0.03 misses the box x, y in [-0.01, 0.01]: empty
+         r.region_type = "polyhedron";
+         r.halfspace_normals.resize(1);
+         r.halfspace_normals[0].x = r.halfspace_normals[0].y = 1.0;
+         r.halfspace_offsets = {-0.03};
+       }},
       {"thresholds[0]", [](VerifyWorkspace::Request& r) { r.thresholds[0] = kNaN; }},
       {"thresholds[3]", [](VerifyWorkspace::Request& r) { r.thresholds[3] = -1.0; }},
       {"thresholds[0]", [](VerifyWorkspace::Request& r) { r.thresholds = {0, 0, 0, 0, 0, 0}; }},  // zero, verify

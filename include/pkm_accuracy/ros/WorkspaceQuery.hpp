@@ -182,9 +182,9 @@ struct WorkspaceOutcome {
 /// Node-wide defaults for the options a request leaves at 0.
 struct QueryDefaults {
   double alpha = 0.01;
-  double time_budget = 60.0;
-  double min_width = 0.0;  ///< 0: let the verifier choose (relative to the workspace)
-  std::string method;      ///< "": the verifier's default (verify::VerifierOptions::method)
+  double time_budget = 10.0;  ///< s: jobs take well under a second; a long one must ask for more
+  double min_width = 0.0;     ///< 0: let the verifier choose (relative to the workspace)
+  std::string method;         ///< "": the verifier's default (verify::VerifierOptions::method)
 };
 
 }  // namespace ros_layer
