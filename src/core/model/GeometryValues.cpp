@@ -28,8 +28,8 @@ GeometryValues::GeometryValues(const RobotDescription& description) {
     // The range covers the reals [nominal + lo, nominal + hi] (rounded outward); the admissible doubles lie inside
     // them (rounded inward; the nominal value itself always qualifies).
     range_[i] = Interval(rnd::addDown(g.nominal, g.lo), rnd::addUp(g.nominal, g.hi));
-    admissible_[i] = Interval(std::min(g.nominal, rnd::addUp(g.nominal, g.lo)),
-                              std::max(g.nominal, rnd::addDown(g.nominal, g.hi)));
+    admissible_[i] =
+        Interval(std::min(g.nominal, rnd::addUp(g.nominal, g.lo)), std::max(g.nominal, rnd::addDown(g.nominal, g.hi)));
     // The point evaluations use the nominal value for a symmetric range, else the centre of the range.
     const double centre = g.lo == -g.hi ? g.nominal : range_[i].mid();
     point_[i] = centre;

@@ -23,8 +23,8 @@ ModelRegistry& ModelRegistry::global() {
 void ModelRegistry::add(ModelType type) {
   if (type.name.empty()) throw InvalidArgument("model type: expected a non-empty name");
   if (type.description.type != type.name) {
-    throw InvalidArgument("model type '" + type.name + "': its description names the type '" +
-                          type.description.type + "'");
+    throw InvalidArgument("model type '" + type.name + "': its description names the type '" + type.description.type +
+                          "'");
   }
   if (!type.make) throw InvalidArgument("model type '" + type.name + "': no factory");
   std::lock_guard<std::mutex> lock(mutex_);

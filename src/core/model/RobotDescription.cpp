@@ -59,8 +59,8 @@ void RobotDescription::validate() const {
   }
   for (std::size_t j = 0; j < dof; ++j) {
     if (!(sensor_error[j] > 0.0) || !std::isfinite(sensor_error[j])) {
-      fail(type, "sensor_error[" + std::to_string(j) + "]: expected a finite value > 0, got " +
-                     number(sensor_error[j]));
+      fail(type,
+           "sensor_error[" + std::to_string(j) + "]: expected a finite value > 0, got " + number(sensor_error[j]));
     }
   }
   std::set<std::string> names;
@@ -69,8 +69,8 @@ void RobotDescription::validate() const {
   for (const Joint& j : joints)
     if (j.name.empty() || !names.insert("joint:" + j.name).second) fail(type, "joint name '" + j.name + "'");
   if (geometry.size() > static_cast<std::size_t>(kMaxGeometryValues)) {
-    fail(type, "at most " + std::to_string(kMaxGeometryValues) + " geometry values, got " +
-                   std::to_string(geometry.size()));
+    fail(type,
+         "at most " + std::to_string(kMaxGeometryValues) + " geometry values, got " + std::to_string(geometry.size()));
   }
   int uncertain = 0;
   for (const GeometryValue& g : geometry) {

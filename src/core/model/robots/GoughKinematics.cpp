@@ -11,13 +11,14 @@ namespace model {
 RobotDescription GoughKinematics::description() {
   RobotDescription d;
   d.type = "gough";
-  d.pose = {{"x", "m", false},      {"y", "m", false},     {"z", "m", false},
+  d.pose = {{"x", "m", false},     {"y", "m", false},      {"z", "m", false},
             {"roll", "rad", true}, {"pitch", "rad", true}, {"yaw", "rad", true}};
   for (int i = 0; i < 6; ++i) d.joints.push_back({"leg_" + std::to_string(i), "m"});
   static const char* kAxis[3] = {"x", "y", "z"};
   for (const char* group : {"base_anchors", "platform_anchors"})
     for (int i = 0; i < 6; ++i)
-      for (int k = 0; k < 3; ++k) d.geometry.push_back({std::string(group) + "[" + std::to_string(i) + "]." + kAxis[k]});
+      for (int k = 0; k < 3; ++k)
+        d.geometry.push_back({std::string(group) + "[" + std::to_string(i) + "]." + kAxis[k]});
   for (int k = 0; k < 3; ++k) {
     GeometryValue c{std::string("tool_point.") + kAxis[k]};
     c.tool_point_coordinate = k;

@@ -13,7 +13,8 @@ RobotDescription Planar3RPRKinematics::description() {
   static const char* kAxis[2] = {"x", "y"};
   for (const char* group : {"base_anchors", "platform_anchors"})
     for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 2; ++k) d.geometry.push_back({std::string(group) + "[" + std::to_string(i) + "]." + kAxis[k]});
+      for (int k = 0; k < 2; ++k)
+        d.geometry.push_back({std::string(group) + "[" + std::to_string(i) + "]." + kAxis[k]});
   for (int k = 0; k < 2; ++k) d.geometry.push_back({std::string("tool_point.") + kAxis[k]});
   return d;
 }

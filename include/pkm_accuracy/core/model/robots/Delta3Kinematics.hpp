@@ -46,11 +46,11 @@ struct Delta3Kinematics {
     out.d = {pose[0] + offset * cphi, pose[1] + offset * sphi, pose[2]};
     const T& arm = g[upperArm(i)];
     const T a = offset + pose[0] * cphi + pose[1] * sphi;  // d . u
-    const T b = -pose[2];                                   // -d . z
+    const T b = -pose[2];                                  // -d . z
     const T rho2 = kin::sqr(a) + kin::sqr(b);
-    const T k = (kin::sqr(out.d[0]) + kin::sqr(out.d[1]) + kin::sqr(out.d[2]) + kin::sqr(arm) -
-                 kin::sqr(g[forearm(i)])) /
-                (arm * 2.0);
+    const T k =
+        (kin::sqr(out.d[0]) + kin::sqr(out.d[1]) + kin::sqr(out.d[2]) + kin::sqr(arm) - kin::sqr(g[forearm(i)])) /
+        (arm * 2.0);
     const T disc = kin::sqrt(rho2 - kin::sqr(k));
     out.cosTheta = (a * k + b * disc) / rho2;
     out.sinTheta = (b * k - a * disc) / rho2;
