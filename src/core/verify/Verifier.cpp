@@ -558,11 +558,14 @@ class Run {
       }
       if (!(score.maxCoeff() > 0.0)) score = bounds.splitScore;
     }
+    // Scores that are not finite (an unbounded enclosure: a box that reaches a singularity or an unreachable pose)
+    // say nothing about the variables: split by width then, so that every variable gets its turn.
+    const bool scored = smear && score.allFinite();
     for (int i = 0; i < m_; ++i) {
       if (!splittable(i)) continue;
       const double scaled = (box[i].upper() - box[i].lower()) / initWidth_[i];
       // Smear scores of 0 (a variable that does not matter) still allow splitting by width as a last resort.
-      const double value = smear ? score[i] + 1e-12 * scaled : scaled;
+      const double value = scored ? score[i] + 1e-12 * scaled : scaled;
       if (value > bestScore) {
         bestScore = value;
         best = i;
