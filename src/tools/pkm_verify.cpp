@@ -1,6 +1,6 @@
 // pkm_verify: command-line verifier of the worst-case positioning accuracy of a Gough-Stewart platform over a
-// workspace, a trajectory or a motion variety (no ROS). See usage() for the arguments and the exit codes, README.md
-// "Command-line tool" and docs/trajectories.md.
+// workspace, a trajectory or a motion variety (no ROS). See usage() for the arguments and the exit codes, docs/cli.md
+// and docs/trajectories.md.
 #include <unistd.h>
 
 #include <algorithm>
