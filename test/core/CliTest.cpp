@@ -808,7 +808,7 @@ TEST_F(CliTest, JsonOnStdoutAndUncertainty) {
 
 TEST_F(CliTest, TimeLimitAndProgressInAPipe) {
   // Max-error to 0.1 % over the whole paper workspace with the anchors known to +-1 mm: far from done after 1.5 s
-  // (more than 15 s on 1 thread; without the uncertainty it now converges in about 1 s). --progress in a pipe: plain
+  // (more than 15 s on 1 thread; without the uncertainty it converges in about 1 s). --progress in a pipe: plain
   // lines, no carriage returns or escape sequences.
   const RunResult r =
       run({"--robot", kRef6, "--workspace", "paper", "--mode", "max-error", "--alpha", "0.001", "--uncertainty",

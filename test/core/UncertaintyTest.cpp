@@ -2615,7 +2615,7 @@ TEST(UncertaintyEnclosure, FaceBoundsHoldForEveryGeometryAndReachTheWorstVertex)
   }
   EXPECT_EQ(checked, 5 * 3 * 6);
   EXPECT_GE(atVertex, 10) << "of 12 (component, thin corner) pairs";
-  // (The plain bound is 0.5-1.3% above the worst vertex there since the fixed point of the B refinement.)
+  // (The plain bound is 0.5-1.3% above the worst vertex there, with the fixed point of the B refinement.)
   EXPECT_GE(tighter, 10) << "of 12 (component, thin corner) pairs tighter than the plain bound by 0.2%";
 }
 

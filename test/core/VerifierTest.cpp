@@ -322,8 +322,8 @@ TEST(Verifier, BudgetsAndCancellationGiveUndecidedWithTheirReason) {
   EXPECT_EQ(r.reason, verify::UndecidedReason::Cancelled);
 
   // The time budget on a job that needs many seconds: max-error to 1% over the paper workspace at +-38 deg (~8 s on
-  // one thread; the +-15 deg one at +5% of its maxima, used here before, now takes about 0.2 s, and the +-40 deg one
-  // contains singular poses, which end a max-error run at once).
+  // one thread; the +-15 deg one at +5% of its maxima takes about 0.2 s, and the +-40 deg one contains singular
+  // poses, which end a max-error run at once).
   const io::RobotFile file = test::ref6File();
   const model::GoughPlatform robot(file.geometry);
   const double a = 0.6632251157578453;
