@@ -796,7 +796,9 @@ void AccuracyCheckerNode::onGoal(actionlib::ServerGoalHandle<Action> gh, const c
     }
     // The SimpleActionServer habit, per client: a client's new goal replaces its running goal on this action (a
     // SimpleActionClient that sends a new goal has dropped the old one). Goals of other clients are not touched.
-    const std::string client = goalClient(gh.getGoalID().id);
+    // (A goal sent without an id gets one from this server, with this node's name: it has no known client.)
+    std::string client = goalClient(gh.getGoalID().id);
+    if (client == ros::this_node::getName()) client.clear();
     if (!client.empty()) preemptGoalsOf(client, name, 5.0);
     WorkspaceOutcome refusal;
     const std::shared_ptr<Job> job = admit(refusal, client, std::string(name) + " " + gh.getGoalID().id, name);

@@ -3,8 +3,9 @@
 // refuse connections and stops its job (~verdict: UNDECIDED, "cancelled"), so that the single job slot is free again
 // within about a second instead of at the end of the job's time budget. A goal of another client that is alive is
 // refused busy. A new goal of this process's client preempts its own running goal (PREEMPTED, its partial result),
-// with an ActionClient that tracks both goals and with a SimpleActionClient that drops the first. A goal that leaves
-// time_budget at 0 runs with the node's default, 10 s.
+// with an ActionClient that tracks both goals and with a SimpleActionClient that drops the first; goals sent without
+// an id belong to no client and do not preempt each other. A goal that leaves time_budget at 0 runs with the node's
+// default, 10 s.
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -19,6 +20,7 @@
 
 #include <actionlib/client/action_client.h>
 #include <actionlib/client/simple_action_client.h>
+#include <actionlib_msgs/GoalStatus.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
@@ -225,6 +227,60 @@ TEST(Clients, ASimpleActionClientsNewGoalReplacesItsOldOne) {
   VerificationResult v;
   ASSERT_TRUE(verdicts().waitFor(first_job, v));
   EXPECT_EQ(v.reason, "cancelled");
+}
+
+// Goals sent without an id (rostopic pub of a goal) get theirs from the server: they belong to no client and do not
+// preempt one another; the second is refused busy.
+TEST(Clients, GoalsWithoutAnIdDoNotPreemptEachOther) {
+  std::mutex mutex;
+  std::vector<pkm_accuracy::VerifyWorkspaceActionResult> results;
+  ros::NodeHandle nh;
+  ros::Subscriber sub = nh.subscribe<pkm_accuracy::VerifyWorkspaceActionResult>(
+      std::string(kAction) + "/result", 10, [&](const pkm_accuracy::VerifyWorkspaceActionResultConstPtr& r) {
+        std::lock_guard<std::mutex> lock(mutex);
+        results.push_back(*r);
+      });
+  ros::Publisher pub = nh.advertise<pkm_accuracy::VerifyWorkspaceActionGoal>(std::string(kAction) + "/goal", 10);
+  const ros::WallTime connect = ros::WallTime::now() + ros::WallDuration(10.0);
+  while ((pub.getNumSubscribers() == 0 || sub.getNumPublishers() == 0) && ros::WallTime::now() < connect) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_GT(pub.getNumSubscribers(), 0u);
+  pkm_accuracy::VerifyWorkspaceActionGoal first, second;
+  first.goal = goalOf(longRequest(60.0));
+  second.goal = goalOf(smallRequest(kGenerous));
+  pub.publish(first);
+  const std::uint64_t job = [] {  // the first goal's job runs (a service request is refused busy)
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(20.0);
+    const std::regex re("job ([0-9]+) \\(action goal\\)");
+    while (ros::WallTime::now() < deadline) {
+      const auto r = verify(smallRequest(kGenerous));
+      std::smatch m;
+      if (r.busy && std::regex_search(r.message, m, re)) return static_cast<std::uint64_t>(std::stoull(m[1]));
+      ros::WallDuration(0.1).sleep();
+    }
+    return std::uint64_t{0};
+  }();
+  ASSERT_GT(job, 0u);
+  pub.publish(second);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  bool refused = false;
+  while (!refused && ros::WallTime::now() < deadline) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (const auto& r : results) {
+        refused = refused || (r.status.status == actionlib_msgs::GoalStatus::REJECTED && r.result.busy);
+      }
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  EXPECT_TRUE(refused) << "the second goal was not refused busy";
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (const auto& r : results) EXPECT_NE(r.result.job_id, job) << "the first goal ended: preempted";
+  }
+  EXPECT_TRUE(cancel(job).success);
+  EXPECT_GE(secondsUntilServed(10.0), 0.0);
 }
 
 /// --client service|action: send a long job to the node and wait (until killed).
