@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <map>
 #include <random>
@@ -239,8 +238,8 @@ inline bool checkHessianEnclosures(const model::RobotModel& robot, const IVec& b
 }
 
 /// geometryDerivatives over `box` contains central differences (in each uncertain geometry value, computed with the
-/// kinematics in double) of J^-1 at random poses of the box and random admissible geometries, and lists every row a
-/// parameter moves. `rowsOf(p)` may name rows the parameter must move (checked to have entries).
+/// kinematics in double) of J^-1 at random poses of the box and random admissible geometries, and has an entry for
+/// every row a parameter moves (no entry: the differences must vanish).
 template <typename K>
 void checkGeometryDerivatives(const model::KinematicModel<K>& robot, const IVec& box, int samples,
                               std::mt19937_64& rng) {
