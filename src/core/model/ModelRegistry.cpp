@@ -7,6 +7,8 @@
 #include "pkm_accuracy/core/model/robots/Delta3Kinematics.hpp"
 #include "pkm_accuracy/core/model/robots/GoughKinematics.hpp"
 #include "pkm_accuracy/core/model/robots/Planar3RPRKinematics.hpp"
+#include "pkm_accuracy/core/model/robots/Prs3Kinematics.hpp"
+#include "pkm_accuracy/core/model/robots/Rus6Kinematics.hpp"
 
 namespace pkm_accuracy {
 namespace model {
@@ -63,6 +65,10 @@ void registerBuiltinModels(ModelRegistry& registry) {
                                                Planar3RPRKinematics::description());
   registry.addKinematics<Delta3Kinematics>("Delta robot, 3 rotary actuators, translations x y z",
                                            Delta3Kinematics::description());
+  registry.addKinematics<Rus6Kinematics>("6-RUS hexapod, 6 rotary actuators, pose x y z roll pitch yaw",
+                                         Rus6Kinematics::description());
+  registry.addKinematics<Prs3Kinematics>("3-PRS robot, 3 vertical prismatic actuators, pose z tilt_x tilt_y",
+                                         Prs3Kinematics::description());
 }
 
 }  // namespace model
