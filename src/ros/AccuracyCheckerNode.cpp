@@ -201,6 +201,7 @@ bool AccuracyCheckerNode::start(std::string& error) {
     return false;
   }
   readDefaults();
+  if (!loadNamedWorkspaces(pnh_, defaults_.workspaces, error)) return false;
   ROS_INFO("Loaded robot from %s: %s", source_ == "yaml" ? ("parameters in " + pnh_.getNamespace()).c_str() : "URDF",
            robot_.summary().c_str());
 
@@ -280,6 +281,7 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
         res.geometry_parameters.push_back(model_->geometryParameterName(p));
       }
     }
+    for (const auto& w : defaults_.workspaces) res.workspaces.push_back(w.first);  // (a std::map: sorted)
     res.message = robot_.summary();
     res.success = true;
   } catch (const std::exception& e) {
