@@ -16,6 +16,7 @@ namespace {
 }
 }  // namespace
 
+std::string RobotModel::jointName(int j) const { return "leg_" + std::to_string(j) + " [m]"; }
 std::string RobotModel::geometryParameterName(int p) const { noParameter(*this, p); }
 Interval RobotModel::geometryParameterRange(int p) const { noParameter(*this, p); }
 double RobotModel::geometryParameterCentre(int p) const { noParameter(*this, p); }

@@ -24,6 +24,8 @@ class RobotModel {
   virtual std::string name() const = 0;
   /// Name and unit of pose coordinate / error component k, e.g. "x [m]", "roll [rad]".
   virtual std::string componentName(int k) const = 0;
+  /// Name and unit of joint (sensor) j, e.g. "leg_2 [m]", "crank_0 [rad]"; sensorError()[j] is in that unit.
+  virtual std::string jointName(int j) const;
   /// True for the components measured in radians.
   virtual bool isAngular(int k) const = 0;
   /// e_j: bound on the sensor error of leg j (m).
@@ -34,7 +36,7 @@ class RobotModel {
   // ---- point evaluation with the nominal geometry (double; not certified) ------------------------------------
   /// J^-1 at a pose.
   virtual DMat inverseJacobian(const DVec& pose) const = 0;
-  /// Leg lengths at a pose (inverse kinematics).
+  /// Joint coordinates at a pose (inverse kinematics: leg lengths, crank angles, ...; jointName() gives the units).
   virtual DVec legLengths(const DVec& pose) const = 0;
 
   // ---- certified enclosures over every admissible geometry ------------------------------------------------------

@@ -1,0 +1,306 @@
+// A robot model written once as templated kinematics (the habit of Ceres' AutoDiffCostFunction): the model gives its
+// inverse Jacobian and its inverse kinematics as function templates, and KinematicModel instantiates them with the
+// core's certified types to provide every ingredient the verifier uses (RobotModel):
+//   double                             point J^-1 and joint coordinates (not certified)
+//   Interval                           J^-1 over a pose box, every admissible geometry
+//   Dual<Interval, kMaxDof>            J^-1 and its gradient along a domain's variables (trajectories, varieties)
+//   Dual<Dual<Interval, D>, D>         first and second derivatives in the pose (the second-order enclosures)
+//   Dual<Interval, 1>                  derivatives in one geometry parameter (geometry uncertainty as parameters)
+//   DependencyMask                     which rows of J^-1 each geometry value enters (exact, structural)
+// and bisects or fixes geometry parameters by restricting their ranges. The derivation: docs/models.md.
+//
+// The Kinematics type K provides (a user's own robot: examples/, docs/models.md):
+//   static constexpr int kDof;                    // pose coordinates = joints, 1..kMaxDof
+//   template <class T> void inverseJacobian(const T* pose, const T* geometry, T* jinv) const;  // row-major
+//   template <class T> void jointCoordinates(const T* pose, const T* geometry, T* joints) const;
+// `geometry` holds the description's geometry values in order. The functions use only + - * /, the kin:: functions
+// (KinematicsMath.hpp: sqr, sqrt, sin, cos, atan2, dot, cross, rotationRpy) and constants; no branch on a value of
+// type T (an interval has no single sign). Where the formula is undefined (a pose the mechanism cannot reach),
+// kin::sqrt makes the enclosures unbounded, so such boxes are never certified.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/model/DependencyMask.hpp"
+#include "pkm_accuracy/core/model/KinematicsMath.hpp"
+#include "pkm_accuracy/core/model/RobotDescription.hpp"
+#include "pkm_accuracy/core/model/RobotModel.hpp"
+
+namespace pkm_accuracy {
+namespace model {
+
+/// The geometry values of a description as the model evaluates them: the interval each value ranges over, the point
+/// the "at geometry centre" evaluations use, the admissible doubles, and which values are parameters. Shared by every
+/// KinematicModel instantiation (not templated).
+class GeometryValues {
+ public:
+  /// @throws InvalidGeometry if the description is invalid.
+  explicit GeometryValues(const RobotDescription& description);
+
+  int size() const { return static_cast<int>(range_.size()); }
+  const std::vector<Interval>& ranges() const { return range_; }
+  const std::vector<Interval>& centres() const { return centreInterval_; }
+  const std::vector<double>& points() const { return point_; }
+  /// Geometry-value index of parameter p.
+  int valueOf(int p) const { return params_[static_cast<std::size_t>(p)]; }
+  int parameterCount() const { return static_cast<int>(params_.size()); }
+  bool uncertain() const;
+  Interval admissible(int p) const;
+
+  /// Parameter p restricted to ranges[p] (checked: non-empty, inside the current range).
+  void restrict(const std::vector<Interval>& ranges, const RobotDescription& description);
+  /// Parameters with a non-NaN value fixed there and removed from the parameter list (checked: inside the range).
+  void fix(const GVec& values, const RobotDescription& description);
+
+ private:
+  void setRange(int value, const Interval& r);
+  std::vector<Interval> range_, centreInterval_, admissible_;
+  std::vector<double> point_;
+  std::vector<int> params_;
+};
+
+/// Which rows of J^-1 (bit r) each geometry value enters, from the model's kinematics (DependencyMask).
+template <typename K>
+std::vector<std::uint32_t> rowsMovedByGeometry(const K& kinematics, int values) {
+  constexpr int D = K::kDof;
+  std::vector<DependencyMask> geometry(static_cast<std::size_t>(values));
+  for (int v = 0; v < values; ++v) geometry[static_cast<std::size_t>(v)] = DependencyMask::on(v);
+  DependencyMask pose[D], jinv[D * D];
+  kinematics.inverseJacobian(pose, geometry.data(), jinv);
+  std::vector<std::uint32_t> rows(static_cast<std::size_t>(values), 0u);
+  for (int v = 0; v < values; ++v)
+    for (int r = 0; r < D; ++r)
+      for (int c = 0; c < D; ++c)
+        if (jinv[r * D + c].bits.test(static_cast<std::size_t>(v))) rows[static_cast<std::size_t>(v)] |= 1u << r;
+  return rows;
+}
+
+template <typename K>
+class KinematicModel final : public RobotModel {
+ public:
+  static constexpr int D = K::kDof;
+  static_assert(D >= 1 && D <= kMaxDof, "KinematicModel: kDof must lie in 1..kMaxDof");
+
+  /// @throws InvalidGeometry if the description is invalid or has another number of pose components than K::kDof.
+  KinematicModel(K kinematics, RobotDescription description)
+      : k_(std::move(kinematics)), d_(checked(std::move(description))), g_(d_) {
+    rows_ = rowsMovedByGeometry(k_, g_.size());
+  }
+
+  const RobotDescription& description() const { return d_; }
+  const K& kinematics() const { return k_; }
+
+  int dof() const override { return D; }
+  std::string name() const override { return d_.type; }
+  std::string componentName(int k) const override {
+    return (k >= 0 && k < D) ? d_.pose[k].name + " [" + d_.pose[k].unit + "]" : "?";
+  }
+  std::string jointName(int j) const override {
+    return (j >= 0 && j < D) ? d_.joints[j].name + " [" + d_.joints[j].unit + "]" : "?";
+  }
+  bool isAngular(int k) const override { return k >= 0 && k < D && d_.pose[k].angular; }
+  const std::vector<double>& sensorError() const override { return d_.sensor_error; }
+  bool hasGeometryUncertainty() const override { return g_.uncertain(); }
+
+  DMat inverseJacobian(const DVec& pose) const override {
+    double jinv[D * D];
+    k_.inverseJacobian(pose.data(), g_.points().data(), jinv);
+    return toMatrix<double, DMat>(jinv);
+  }
+  DVec legLengths(const DVec& pose) const override {
+    double q[D];
+    k_.jointCoordinates(pose.data(), g_.points().data(), q);
+    DVec out(D);
+    for (int j = 0; j < D; ++j) out[j] = q[j];
+    return out;
+  }
+  IMat inverseJacobian(const IVec& pose) const override { return intervalJinv(pose, g_.ranges()); }
+  IMat inverseJacobianAtGeometryCentre(const IVec& pose) const override { return intervalJinv(pose, g_.centres()); }
+  void inverseJacobian(const DualPose& pose, MatrixWithGradient& out) const override {
+    dualJinv(pose, g_.ranges(), out);
+  }
+  void inverseJacobianAtGeometryCentre(const DualPose& pose, MatrixWithGradient& out) const override {
+    dualJinv(pose, g_.centres(), out);
+  }
+  bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second) const override;
+
+  int geometryParameterCount() const override { return g_.parameterCount(); }
+  std::string geometryParameterName(int p) const override {
+    return validParameter(p) ? d_.geometry[g_.valueOf(p)].name : RobotModel::geometryParameterName(p);
+  }
+  Interval geometryParameterRange(int p) const override {
+    return validParameter(p) ? g_.ranges()[g_.valueOf(p)] : RobotModel::geometryParameterRange(p);
+  }
+  double geometryParameterCentre(int p) const override {
+    return validParameter(p) ? g_.centres()[g_.valueOf(p)].lower() : RobotModel::geometryParameterCentre(p);
+  }
+  Interval geometryParameterAdmissible(int p) const override {
+    return validParameter(p) ? g_.admissible(p) : RobotModel::geometryParameterAdmissible(p);
+  }
+  int toolPointCoordinate(int p) const override {
+    return validParameter(p) ? d_.geometry[g_.valueOf(p)].tool_point_coordinate : -1;
+  }
+  bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
+  std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override {
+    if (g_.parameterCount() == 0) return RobotModel::restrictGeometry(ranges);
+    auto out = std::make_unique<KinematicModel>(*this);
+    out->g_.restrict(ranges, d_);
+    return out;
+  }
+  std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override {
+    if (g_.parameterCount() == 0) return RobotModel::fixGeometryParameters(values);
+    auto out = std::make_unique<KinematicModel>(*this);
+    out->g_.fix(values, d_);
+    return out;
+  }
+
+  /// Enclosure of the joint coordinates over a pose box (every admissible geometry).
+  IVec jointCoordinates(const IVec& pose) const {
+    Interval q[D];
+    k_.jointCoordinates(pose.data(), g_.ranges().data(), q);
+    IVec out(D);
+    for (int j = 0; j < D; ++j) out[j] = q[j];
+    return out;
+  }
+
+ private:
+  static RobotDescription checked(RobotDescription d) {
+    d.validate();
+    if (static_cast<int>(d.pose.size()) != D) {
+      throw InvalidGeometry(d.type + ": expected " + std::to_string(D) + " pose components, got " +
+                            std::to_string(d.pose.size()));
+    }
+    return d;
+  }
+  bool validParameter(int p) const { return p >= 0 && p < g_.parameterCount(); }
+
+  template <typename T, typename M>
+  static M toMatrix(const T* jinv) {
+    M m(D, D);
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) m(i, j) = jinv[i * D + j];
+    return m;
+  }
+  IMat intervalJinv(const IVec& pose, const std::vector<Interval>& geometry) const {
+    Interval jinv[D * D];
+    k_.inverseJacobian(pose.data(), geometry.data(), jinv);
+    return toMatrix<Interval, IMat>(jinv);
+  }
+  void dualJinv(const DualPose& pose, const std::vector<Interval>& geometry, MatrixWithGradient& out) const;
+
+  K k_;
+  RobotDescription d_;
+  GeometryValues g_;
+  std::vector<std::uint32_t> rows_;  ///< per geometry value: the rows of J^-1 it enters (bit r)
+};
+
+// ---- template definitions -----------------------------------------------------------------------------------------
+
+template <typename K>
+void KinematicModel<K>::dualJinv(const DualPose& pose, const std::vector<Interval>& geometry,
+                                 MatrixWithGradient& out) const {
+  std::vector<DualI> g(geometry.begin(), geometry.end());
+  DualI jinv[D * D];
+  k_.inverseJacobian(pose.data(), g.data(), jinv);
+  out.value.resize(D, D);
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) out.value(i, j) = jinv[i * D + j].value();
+  for (int m = 0; m < kMaxDof; ++m) {
+    out.d[m].resize(D, D);
+    // Variables no pose coordinate depends on get exact zeros (outward-rounded products would give [-tiny, tiny]).
+    bool depends = false;
+    for (int k = 0; k < D; ++k) depends = depends || pose[k].d(m) != Interval(0.0);
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) out.d[m](i, j) = depends ? jinv[i * D + j].d(m) : Interval(0.0);
+  }
+}
+
+template <typename K>
+bool KinematicModel<K>::inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out,
+                                                               bool second) const {
+  using First = interval::Dual<Interval, D>;
+  const std::vector<Interval>& centre = g_.centres();
+  const IMat zero = IMat::Constant(D, D, Interval(0.0));
+  for (int a = 0; a < kMaxDof; ++a) out.first[a] = zero;
+  for (int p = 0; p < MatrixHessian::kPairs; ++p) out.d[p] = zero;
+  bool finite = true;
+  auto keep = [&finite](const Interval& v) {
+    finite = finite && v.isBounded();
+    return v;
+  };
+  if (!second) {
+    First q[D], jinv[D * D];
+    for (int a = 0; a < D; ++a) q[a] = First::variable(pose[a], a);
+    std::vector<First> g(centre.begin(), centre.end());
+    k_.inverseJacobian(q, g.data(), jinv);
+    for (int a = 0; a < D; ++a)
+      for (int i = 0; i < D; ++i)
+        for (int j = 0; j < D; ++j) out.first[a](i, j) = keep(jinv[i * D + j].d(a));
+    return finite;
+  }
+  using Second = interval::Dual<First, D>;
+  Second q[D], jinv[D * D];
+  for (int a = 0; a < D; ++a) q[a] = Second::variable(First::variable(pose[a], a), a);
+  std::vector<Second> g;
+  g.reserve(centre.size());
+  for (const Interval& c : centre) g.emplace_back(First(c));
+  k_.inverseJacobian(q, g.data(), jinv);
+  for (int i = 0; i < D; ++i) {
+    for (int j = 0; j < D; ++j) {
+      const Second& e = jinv[i * D + j];
+      for (int a = 0; a < D; ++a) {
+        // Two enclosures of the same first derivative: e.value().d(a) and e.d(a).value(); keep their intersection.
+        out.first[a](i, j) = keep(intersect(e.value().d(a), e.d(a).value()));
+        for (int b = a; b < D; ++b) out.d[MatrixHessian::index(a, b)](i, j) = keep(e.d(a).d(b));
+      }
+    }
+  }
+  return finite;
+}
+
+template <typename K>
+bool KinematicModel<K>::geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const {
+  out.count = 0;
+  if (g_.parameterCount() == 0) return true;
+  using G = interval::Dual<Interval, 1>;
+  std::vector<G> g(g_.ranges().begin(), g_.ranges().end());
+  G q[D], jinv[D * D];
+  for (int a = 0; a < D; ++a) q[a] = G(pose[a]);
+  for (int p = 0; p < g_.parameterCount(); ++p) {
+    const int v = g_.valueOf(p);
+    const std::uint32_t rows = rows_[static_cast<std::size_t>(v)];
+    if (rows == 0u) continue;
+    g[static_cast<std::size_t>(v)] = G::variable(g_.ranges()[v], 0);
+    k_.inverseJacobian(q, g.data(), jinv);
+    g[static_cast<std::size_t>(v)] = G(g_.ranges()[v]);
+    for (int r = 0; r < D; ++r) {
+      if (!(rows & (1u << r))) continue;
+      if (out.count >= GeometryDerivatives::kCapacity) {
+        out.count = 0;
+        return false;
+      }
+      GeometryRowDerivative& e = out.entries[out.count++];
+      e.parameter = p;
+      e.row = r;
+      e.affine = false;
+      e.parameterSlopes = false;
+      for (int l = 0; l < kMaxDof; ++l) {
+        e.d[l] = l < D ? interval::MidRad(jinv[r * D + l].d(0)) : interval::MidRad(0.0);
+        if (l < D && !jinv[r * D + l].d(0).isBounded()) {
+          out.count = 0;
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace model
+}  // namespace pkm_accuracy
