@@ -53,8 +53,8 @@ constexpr const char* kDefaultPlatformFrame = "platform";
 /// base_frame: base_link       # optional (default "base_link"): read by loadRobotFrames(), not by this function
 /// @endcode
 ///
-/// Integers are accepted wherever numbers are expected. Other keys (workspaces, anchor_uncertainty_cases, ...) are
-/// ignored. The result is checked with GoughGeometry::validate().
+/// Integers are accepted wherever numbers are expected. Other keys are not read here (workspaces: see
+/// loadNamedWorkspaces(); anchor_uncertainty_cases, ...). The result is checked with GoughGeometry::validate().
 ///
 /// @param nh    node handle whose namespace holds the parameters
 /// @param out   filled only on success
