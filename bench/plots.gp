@@ -1,4 +1,4 @@
-# Plots of the README (run by scripts/plots): worst-error maps over (x, y) slices of ref6's `paper` workspace and the
+# Plots in docs/images (run by scripts/plots; the README shows one): worst-error maps over (x, y) slices of ref6's `paper` workspace and the
 # worst error along config/trajectory_example.yaml with its certified bounds. Data from <build>/bench/plot_data.
 # Usage: gnuplot -e "datadir='DIR'; outdir='docs/images'" bench/plots.gp
 if (!exists("datadir")) datadir = "."

@@ -1,7 +1,7 @@
 // Certified accuracy along a 100-waypoint trajectory inside the reference robot's `paper` workspace (x, y in
 // [-0.15, 0.15] m, z in [0.45, 0.50] m, angles in [-15, 15] deg): thresholds 5% above the maxima sampled at 10^5
 // times (plus every waypoint); prints the verdict, boxes and seconds (median of `repeats` runs) per interpolation,
-// enclosure method and thread count. Target (issue "Trajectories"): <= 100 ms. Then a tilted-frame trajectory and two
+// enclosure method and thread count. Target: <= 100 ms. Then a tilted-frame trajectory and two
 // motion varieties (a surface and a volume of poses; no target, recorded in bench/RESULTS.md).
 // Usage: trajectory_bench [repeats] (default 5).
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Where the +-1 mm anchor-uncertainty case loses (issue #5; docs/uncertainty.md, "The vertex ceiling"). For each
+// Where the +-1 mm anchor-uncertainty case loses (docs/uncertainty.md, "Faces"; docs/design-notes.md). For each
 // pose component k and boxes of growing size around its sampled worst pose on the `paper` workspace, relative to
 // the sampled maximum over poses and geometries:
 //   bound   the certified second-order bound over the box and every geometry (what the verifier uses);

@@ -3,7 +3,7 @@
 // [default|combined|decomposed|both] [h_mm,h_mm,...]
 //   time_limit_s: per scenario (default 120: the long scenarios stop there, UNDECIDED);
 //   the second argument selects the scenarios: all (default), nominal (no anchor uncertainty), or uncertainty (the
-//   anchor-uncertainty rows of issue #5 only);
+//   anchor-uncertainty rows only);
 //   rounds: how many times the anchor-uncertainty cases run, in turn (h = 0, 0.5, 1 mm, h = 0, ...; default 3), so
 //   that the ratios are taken from each case's fastest run (this shared VM's wall times swing 2x with other load);
 //   the last argument: the geometry form of the uncertain cases (VerifierOptions::decompose_geometry; default: the
@@ -71,7 +71,7 @@ void printVec(const char* label, const DVec& v) {
   std::printf("\n");
 }
 
-/// Issue #5: the paper workspace with every anchor coordinate known to +-h, h in ref6's anchor_uncertainty_cases.
+/// Anchor uncertainty: the paper workspace, every anchor coordinate known to +-h, h in anchor_uncertainty_cases.
 /// Thresholds 5% above each case's own maxima over poses and geometries (sampled, bench::sampledMaximaOverGeometry),
 /// 2 threads; time ratio of each uncertain case to h = 0 in the same run, `rounds` times in turn, then the ratios of
 /// the fastest runs (wall and CPU time). Then max-error at h = 0.5 mm, alpha 2%.
@@ -88,7 +88,7 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
                           const std::vector<int>& forms, std::vector<double> cases) {
   constexpr int kRandomPoses = 10000;
   std::printf(
-      "\n-- anchor uncertainty (issue #5): paper workspace, thresholds = 1.05 x that case's maxima over poses\n"
+      "\n-- anchor uncertainty: paper workspace, thresholds = 1.05 x that case's maxima over poses\n"
       "   and geometries, sampled in double (not certified): 64 corners + %d random poses; per pose and\n"
       "   component the anchor vertex given by the signs of central differences (step h) of f_k w.r.t. the 36\n"
       "   anchor coordinates + 8 random vertices; the best 8 per component refined by single-coordinate flips\n",

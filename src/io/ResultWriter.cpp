@@ -284,6 +284,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("message", Node::string(r.message));
   d.set("mode", Node::string(modeName(o.mode)));
   d.set("robot", Node::string(info.robot));
+  d.set("robot_type", Node::string(info.robot_type));
   d.set("workspace", info.trajectory.empty() ? Node::string(info.workspace) : Node());
   d.set("workspace_region", Node::string(info.workspace_region));
   d.set("workspace_box", box(info.workspace_box));
@@ -618,7 +619,10 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
   if (r.verdict == verify::Verdict::Undecided) os << " (" << verify::toString(r.reason) << ")";
   os << "\nmessage:   " << r.message << "\n";
   os << "robot:     " << info.robot;
-  if (info.uniform_uncertainty) {
+  if (info.robot_type != "gough") {
+    os << " (" << info.robot_type << "; " << info.geometry_parameters.size() << " uncertain geometry value"
+       << (info.geometry_parameters.size() == 1 ? "" : "s") << ")\n";
+  } else if (info.uniform_uncertainty) {
     os << " (anchor uncertainty " << num(info.anchor_uncertainty) << " m)\n";
   } else {
     os << " (uncertainty per coordinate: anchors up to " << num(info.anchor_uncertainty) << " m, tool point up to "

@@ -1,4 +1,4 @@
-// accuracy_checker: the pkm_accuracy ROS node. See README.md (node API) and AccuracyCheckerNode.hpp.
+// accuracy_checker: the pkm_accuracy ROS node. See docs/ros_api.md and AccuracyCheckerNode.hpp.
 #include <exception>
 #include <string>
 

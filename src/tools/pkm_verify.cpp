@@ -1,6 +1,6 @@
-// pkm_verify: command-line verifier of the worst-case positioning accuracy of a Gough-Stewart platform over a
-// workspace, a trajectory or a motion variety (no ROS). See usage() for the arguments and the exit codes, README.md
-// "Command-line tool" and docs/trajectories.md.
+// pkm_verify: command-line verifier of the worst-case positioning accuracy of a parallel robot over a workspace, a
+// trajectory or a motion variety (no ROS), and of single poses (--at). See usage() for the arguments and the exit
+// codes, docs/cli.md, docs/models.md and docs/trajectories.md.
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,11 +23,15 @@
 #include "CommandLine.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/Version.hpp"
+#include "pkm_accuracy/core/domain/PoseBox.hpp"
 #include "pkm_accuracy/core/domain/TransformedDomain.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
+#include "pkm_accuracy/core/model/ModelRegistry.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
+#include "pkm_accuracy/io/ModelFile.hpp"
+#include "pkm_accuracy/io/ModelPlugin.hpp"
 #include "pkm_accuracy/io/ResultWriter.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
 #include "pkm_accuracy/io/TrajectoryFile.hpp"
@@ -66,26 +70,38 @@ void usage(std::ostream& os) {
         "                  [--geometry-form combined|decomposed] [--json OUT] [--yaml OUT]\n"
         "                  [--self-check] [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
+        "       pkm_verify --robot FILE --at v1,v2,...\n"
+        "       pkm_verify --list-types\n"
         "       pkm_verify --help | --version\n"
         "\n"
-        "Certifies the worst-case positioning error of a Gough-Stewart platform over a workspace (interval analysis\n"
-        "and branch-and-bound; no ROS). Units: m and rad. Options also accept the form --name=value.\n"
+        "Certifies the worst-case positioning error of a parallel robot over a workspace (interval analysis and\n"
+        "branch-and-bound; no ROS). Units: m and rad. Options also accept the form --name=value.\n"
         "\n"
         "Input:\n"
-        "  --robot FILE           robot file in the format of config/ref6.yaml (required)\n"
+        "  --robot FILE           robot file (required): a Gough platform as config/ref6.yaml, or any registered\n"
+        "                         type named by its `type:` key (gough, planar3rpr, delta3, rus6, prs3, or a\n"
+        "                         plugin's; docs/models.md); the lists of values per pose coordinate or error\n"
+        "                         component below then have the robot's number of degrees of freedom\n"
+        "  --plugin LIB           load a shared library that registers robot types (pkm_accuracy_register_models;\n"
+        "                         docs/models.md); may be repeated\n"
+        "  --at LIST              one pose (the robot's pose coordinates, comma-separated): print the joint\n"
+        "                         coordinates, J^-1 and each component's worst error, in double and certified\n"
+        "  --list-types           print the registered robot types and exit\n"
         "  --workspace NAME|FILE  a workspace of the robot file's `workspaces:` map, or a workspace YAML file\n"
         "                         (keys x, y, z, roll, pitch, yaw, optional region and frame: {translation, rpy} of\n"
         "                         the workspace's frame in the base frame: the reports' poses are in the base\n"
         "                         frame, the points in the workspace's variables in its frame); default: the robot\n"
         "                         file's only workspace, else the one named `paper`\n"
-        "  --trajectory FILE      verify every pose along a trajectory or motion variety instead of a workspace\n"
+        "  --trajectory FILE      (gough) verify every pose along a trajectory or motion variety instead of a "
+        "workspace\n"
         "                         (YAML: waypoints [t, x, y, z, roll, pitch, yaw] with interpolation slerp or\n"
         "                         linear_rpy, polynomial_segments, or variety; optional region and frame:\n"
         "                         {translation, rpy} of the file's frame in the base frame; docs/trajectories.md);\n"
         "                         the reports add witness_t (s) and the undecided time intervals; their poses are\n"
         "                         in the base frame\n"
         "  --list-workspaces      print the workspaces of the robot file and exit\n"
-        "  --uncertainty H        half-width (m, >= 0) of every anchor coordinate; overrides the file's\n"
+        "  --uncertainty H        half-width (m, >= 0) of every anchor coordinate (other types: of every geometry\n"
+        "                         value in m); overrides the file's\n"
         "                         anchor half-widths (anchor_uncertainty, base_anchor_uncertainty,\n"
         "                         platform_anchor_uncertainty; its tool_point_uncertainty is kept)\n"
         "Problem:\n"
@@ -107,9 +123,9 @@ void usage(std::ostream& os) {
         "                         target (default on; domains of 3 or more variables; only the search order\n"
         "                         changes)\n"
         "  --geometry-form F      with anchor uncertainty: decomposed (default: the nominal error plus a separate\n"
-        "                         bound of its increase over the geometry, on the paths that have not stalled; the\n"
-        "                         combined form on the faces and geometry halves) or combined (one expansion in the\n"
-        "                         pose and the geometry together everywhere); both rigorous\n"
+        "                         bound of its increase over the geometry, on every path, geometry halves included;\n"
+        "                         the combined form on the faces) or combined (one expansion in the pose and the\n"
+        "                         geometry together everywhere); both rigorous\n"
         "  --threads N            worker threads (default 0: all hardware threads)\n"
         "  --geometry-splitting M with anchor uncertainty: auto (default: a box whose bound stops improving under\n"
         "                         bisection switches from uncertainty as interval coefficients and first-order terms\n"
@@ -164,11 +180,16 @@ struct Arguments {
   bool help = false;
   bool version = false;
   bool list_workspaces = false;
+  bool list_types = false;
   bool quiet = false;
   bool progress = false;
   std::string robot;
   std::string workspace;
   std::string trajectory;
+  std::string type = "gough";                  // the robot file's type
+  std::vector<std::string> plugins;            // --plugin
+  std::optional<std::string> at_text;          // --at, parsed once the robot is known
+  std::optional<std::string> thresholds_text;  // non-gough types: parsed once the robot is known
   std::optional<double> uncertainty;
   std::string json, yaml;
   verify::VerifierOptions options;
@@ -192,6 +213,62 @@ std::vector<double> parseSix(const std::string& arg, const std::string& text, do
   return v;
 }
 
+/// Loads every --plugin library into the registry (exit 3 naming the library on failure).
+void loadPlugins(const std::vector<std::string>& plugins) {
+  for (const std::string& path : plugins) {
+    try {
+      io::loadModelPlugin(path, model::ModelRegistry::global());
+    } catch (const InvalidArgument& e) {
+      badArgument("--plugin", e.what());
+    }
+  }
+}
+
+/// The robot file's type (exit 3 naming the file on failure or for an unregistered type).
+std::string robotType(const std::string& path) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) badArgument("--robot", path + ": not a regular file");
+  std::string type;
+  try {
+    type = io::robotFileType(path);
+  } catch (const InvalidArgument& e) {
+    badArgument("--robot", e.what());
+  } catch (const std::exception& e) {
+    badArgument("--robot", path + ": cannot read: " + e.what());
+  }
+  if (!model::ModelRegistry::global().find(type)) {
+    std::string list;
+    for (const std::string& n : model::ModelRegistry::global().names()) list += (list.empty() ? "" : ", ") + n;
+    badArgument("--robot", path + ": type: unknown robot type '" + type + "' (registered: " + list +
+                               "; a plugin's types need --plugin LIB)");
+  }
+  return type;
+}
+
+/// n comma-separated numbers, one per name (with its unit).
+std::vector<double> parseValues(const std::string& arg, const std::string& text, const std::vector<std::string>& names,
+                                const std::vector<std::string>& units, double lo, bool strict, bool bounded = true) {
+  const auto items = tools::splitList(text);
+  std::string list;
+  for (std::size_t k = 0; k < names.size(); ++k) list += (k ? "," : "") + names[k];
+  if (items.size() != names.size()) {
+    badArgument(arg, "expected " + std::to_string(names.size()) + " comma-separated values (" + list + "), got " +
+                         std::to_string(items.size()) + " in '" + text + "'");
+  }
+  std::vector<double> v;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const std::string what = arg + "[" + std::to_string(k) + "] (" + names[k] + ")";
+    if (bounded) {
+      v.push_back(tools::parseBounded(what, items[k], lo, strict, units[k]));
+      continue;
+    }
+    const double x = tools::parseNumber(what, items[k]);
+    if (!std::isfinite(x)) badArgument(what, "expected a finite number (" + units[k] + "), got '" + items[k] + "'");
+    v.push_back(x);
+  }
+  return v;
+}
+
 Arguments parseArguments(int argc, char** argv) {
   Arguments a;
   bool haveThresholds = false;
@@ -202,8 +279,9 @@ Arguments parseArguments(int argc, char** argv) {
       "--alpha",        "--uncertainty", "--method",        "--threads",
       "--time-limit",   "--json",        "--yaml",          "--max-boxes",
       "--min-width",    "--bisection",   "--trajectory",    "--geometry-splitting",
-      "--stall-levels", "--faces",       "--skip-hopeless", "--geometry-form"};
-  static const std::vector<std::string> flags = {"--help",  "-h", "--version",  "--list-workspaces",
+      "--stall-levels", "--faces",       "--skip-hopeless", "--geometry-form",
+      "--plugin",       "--at"};
+  static const std::vector<std::string> flags = {"--help",  "-h", "--version",  "--list-workspaces", "--list-types",
                                                  "--quiet", "-q", "--progress", "--self-check"};
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -234,6 +312,13 @@ Arguments parseArguments(int argc, char** argv) {
       a.version = true;
     } else if (arg == "--list-workspaces") {
       a.list_workspaces = true;
+    } else if (arg == "--list-types") {
+      a.list_types = true;
+    } else if (arg == "--plugin") {
+      if (value.empty()) badArgument(arg, "expected a shared library file, got an empty value");
+      a.plugins.push_back(value);
+    } else if (arg == "--at") {
+      a.at_text = value;
     } else if (arg == "--quiet" || arg == "-q") {
       a.quiet = true;
     } else if (arg == "--progress") {
@@ -321,7 +406,21 @@ Arguments parseArguments(int argc, char** argv) {
     }
   }
   if (a.help || a.version) return a;
+  loadPlugins(a.plugins);
+  if (a.list_types) return a;
   if (a.robot.empty()) badArgument("--robot", "required (the robot file, e.g. config/ref6.yaml; see --help)");
+  a.type = robotType(a.robot);
+  if (a.type != "gough") {
+    // Values per pose coordinate / error component are parsed once the robot (its dof and names) is known.
+    if (haveThresholds) a.thresholds_text = thresholdsText;
+    if (!a.trajectory.empty()) {
+      badArgument("--trajectory", "trajectories and motion varieties are verified for gough robots; " + a.robot +
+                                      " is a " + a.type + " (verify a workspace of it instead)");
+    }
+    if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
+    return a;
+  }
+  if (a.at_text) return a;
   if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
   if (!a.trajectory.empty() && !a.workspace.empty()) {
     badArgument("--trajectory", "cannot be combined with --workspace (a run verifies a workspace or a trajectory)");
@@ -537,87 +636,10 @@ int exitCodeOf(const verify::VerifierResult& r, const verify::VerifierOptions& o
   return kInternal;
 }
 
-int run(int argc, char** argv) {
-  Arguments a = parseArguments(argc, argv);
-  if (a.help) {
-    usage(std::cout);
-    return 0;
-  }
-  if (a.version) {
-    std::cout << "pkm_verify " << pkm_accuracy::version() << "\n";
-    return 0;
-  }
-
-  struct stat st;
-  if (::stat(a.robot.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-    badArgument("--robot", a.robot + ": not a regular file");
-  }
-  io::RobotFile robot = [&] {
-    try {
-      return io::loadRobotFile(a.robot);
-    } catch (const InvalidArgument& e) {
-      badArgument("--robot", e.what());
-    } catch (const std::exception& e) {  // e.g. an I/O error of the stream under the YAML parser
-      badArgument("--robot", a.robot + ": cannot read: " + e.what());
-    }
-  }();
-  for (const std::string& key : robot.unknown_keys) {
-    std::cerr << "pkm_verify: warning: --robot: " << a.robot << ": key '" << key << "' is not used (unknown key)\n";
-  }
-  if (a.list_workspaces) {
-    listWorkspaces(robot, a.robot);
-    return 0;
-  }
-  if (a.uncertainty) {
-    robot.geometry.setUniformAnchorUncertainty(*a.uncertainty);
-    try {
-      robot.geometry.validate();
-    } catch (const InvalidArgument& e) {
-      badArgument("--uncertainty", e.what());
-    }
-  }
-  const model::GoughPlatform model(robot.geometry);
-
-  io::RunInfo info;
-  info.version = pkm_accuracy::version();
-  std::shared_ptr<const domain::Domain> domainPtr;
-  if (a.trajectory.empty()) {
-    std::optional<domain::RigidTransform> frame;
-    auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace, frame));
-    info.workspace_region = workspace->region().typeName();
-    domainPtr = workspace;
-    if (frame) {
-      // Given in a frame F: verified in the base frame; the variables stay the workspace's own (in F).
-      const auto framed = std::make_shared<domain::TransformedDomain>(workspace, *frame);
-      domainPtr = framed;
-      info.workspace += ", in " + framed->frameDescription();
-    }
-  } else {
-    const io::TrajectoryFile file = loadTrajectory(a.trajectory);
-    info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
-    info.trajectory = a.trajectory;
-    info.trajectory_type = file.description;
-    info.workspace_region = file.region;
-    if (file.trajectory) {
-      info.time_start = file.trajectory->startTime();
-      info.time_end = file.trajectory->endTime();
-    }
-    domainPtr = file.domain;
-  }
-  const domain::Domain& target = *domainPtr;  // what is verified
-  info.robot = a.robot;
-  info.workspace_box = target.initialBox();
-  for (int i = 0; i < target.variables(); ++i) info.variables.push_back(target.variableName(i));
-  info.components.assign(std::begin(kComponents), std::end(kComponents));
-  info.units.assign(std::begin(kUnits), std::end(kUnits));
-  for (int p = 0; p < model.geometryParameterCount(); ++p) {
-    info.geometry_parameters.push_back(model.geometryParameterName(p));
-    info.geometry_ranges.push_back(model.geometryParameterRange(p));
-  }
-  describeUncertainty(robot.geometry, info);
-
+/// Sets the remaining options, runs the verifier with progress and interruption, writes the reports and the
+/// summary. @return the exit code.
+int runAndReport(Arguments& a, const model::RobotModel& model, const domain::Domain& target, io::RunInfo& info) {
   verify::VerifierOptions& options = a.options;
-  if (a.min_width_text && !a.trajectory.empty()) a.min_width = parseList("--min-width", *a.min_width_text, target);
   if (!a.min_width.empty()) {
     if (static_cast<int>(a.min_width.size()) != target.variables()) {
       badArgument("--min-width", "expected " + std::to_string(target.variables()) + " values, got " +
@@ -666,6 +688,296 @@ int run(int argc, char** argv) {
     (stdoutReport ? std::cerr : std::cout) << summary.str() << std::flush;
   }
   return code;
+}
+
+// ---- one pose (--at) -----------------------------------------------------------------------------------------------
+/// The pose of --at (one value per pose coordinate of the model).
+DVec parsePose(const std::string& text, const model::RobotModel& m) {
+  std::vector<std::string> names, units;
+  for (int k = 0; k < m.dof(); ++k) {
+    const std::string c = m.componentName(k);
+    names.push_back(c.substr(0, c.find(' ')));
+    units.push_back(c.find('[') == std::string::npos ? "" : c.substr(c.find('[') + 1, c.find(']') - c.find('[') - 1));
+  }
+  const std::vector<double> v = parseValues("--at", text, names, units, 0.0, false, false);
+  DVec q(m.dof());
+  for (int k = 0; k < m.dof(); ++k) q[k] = v[static_cast<std::size_t>(k)];
+  return q;
+}
+
+std::string number(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "% .9e", x);
+  return buf;
+}
+
+/// Prints the joint coordinates, J^-1 and the worst error of every component at one pose, in double and certified
+/// (the certified worst errors: the verifier's max-error bracket over the single pose). @return the exit code.
+int printAt(const model::RobotModel& m, const std::string& robot, const std::string& type, const DVec& q) {
+  std::ostream& os = std::cout;
+  os << "robot: " << robot << " (" << type << ", " << m.dof() << " dof"
+     << (m.hasGeometryUncertainty() ? ", uncertain geometry" : "") << ")\n";
+  os << "pose:";
+  for (int k = 0; k < m.dof(); ++k) os << " " << m.componentName(k) << " = " << tools::shortNumber(q[k]) << ";";
+  os << "\n";
+  IVec box(m.dof());
+  for (int k = 0; k < m.dof(); ++k) box[k] = Interval(q[k]);
+  const DVec joints = m.legLengths(q);
+  os << "joint coordinates (double):\n";
+  const domain::PoseBox point(std::vector<std::string>(static_cast<std::size_t>(m.dof()), "pose"), box);
+  const IMat jinvI = m.inverseJacobian(box);
+  for (int j = 0; j < m.dof(); ++j) os << "  " << m.jointName(j) << "  " << number(joints[j]) << "\n";
+  os << "J^-1 (double; rows: joints, columns: pose components):\n";
+  const DMat jinv = m.inverseJacobian(q);
+  for (int i = 0; i < m.dof(); ++i) {
+    os << " ";
+    for (int j = 0; j < m.dof(); ++j) os << " " << number(jinv(i, j));
+    os << "\n";
+  }
+  os << "J^-1 (certified: the largest radius of an entry's enclosure): ";
+  double radius = 0.0;
+  for (int i = 0; i < m.dof(); ++i)
+    for (int j = 0; j < m.dof(); ++j) radius = std::max(radius, jinvI(i, j).rad());
+  os << tools::shortNumber(radius) << "\n";
+  os << "worst error sum_j |J_kj| e_j: double, certified [lower, upper]\n";
+  DVec worst;
+  bool singular = false;
+  try {
+    worst = m.worstErrorAt(q);
+  } catch (const SingularMatrix&) {
+    singular = true;
+  }
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.threads = 1;
+  o.alpha = 1e-6;
+  o.max_boxes = 1;
+  const verify::VerifierResult r = verify::Verifier::run(m, point, o);
+  for (int k = 0; k < m.dof(); ++k) {
+    os << "  " << m.componentName(k) << "  " << (singular ? std::string("singular") : number(worst[k])) << "  ["
+       << number(r.max_lower.size() ? r.max_lower[k] : 0.0) << ", " << number(r.max_upper.size() ? r.max_upper[k] : 0.0)
+       << "]\n";
+  }
+  const bool bounded = r.max_upper.size() == m.dof() && r.max_upper.allFinite();
+  if (!bounded) os << "the certified bound is unbounded: J^-1 is singular or the pose unreachable there\n";
+  return bounded ? kSafe : kUndecided;
+}
+
+// ---- robots of any registered type ---------------------------------------------------------------------------------
+io::ModelFile loadModel(const Arguments& a) {
+  try {
+    return io::loadModelFile(a.robot);
+  } catch (const InvalidArgument& e) {
+    badArgument("--robot", e.what());
+  } catch (const std::exception& e) {
+    badArgument("--robot", a.robot + ": cannot read: " + e.what());
+  }
+}
+
+/// --workspace for a non-gough robot: a name of the file's workspaces (default: the only one, else `reference`), or a
+/// YAML file keyed by the pose coordinates.
+std::shared_ptr<const domain::Domain> resolveModelWorkspace(const io::ModelFile& file, const Arguments& a,
+                                                            std::string& label) {
+  std::string names;
+  for (const auto& kv : file.workspaces) names += (names.empty() ? "" : ", ") + kv.first;
+  if (a.workspace.empty()) {
+    if (file.workspaces.size() == 1) {
+      label = file.workspaces.begin()->first;
+      return file.workspaces.begin()->second;
+    }
+    if (file.workspaces.count("reference")) {
+      label = "reference";
+      return file.workspaces.at(label);
+    }
+    badArgument("--workspace",
+                "required: " + a.robot + " has " +
+                    (names.empty() ? std::string("no workspaces") : "several workspaces (" + names + ")") +
+                    "; pass --workspace NAME or --workspace FILE");
+  }
+  label = a.workspace;
+  if (file.workspaces.count(a.workspace)) return file.workspaces.at(a.workspace);
+  if (isRegularFile(a.workspace)) {
+    try {
+      return io::loadPoseBoxFile(a.workspace, *file.model, file.description);
+    } catch (const InvalidArgument& e) {
+      badArgument("--workspace", e.what());
+    } catch (const std::exception& e) {
+      badArgument("--workspace", a.workspace + ": cannot read: " + e.what());
+    }
+  }
+  badArgument("--workspace", "'" + a.workspace + "' is neither a workspace of " + a.robot + " (" +
+                                 (names.empty() ? std::string("none") : names) + ") nor a readable workspace file");
+}
+
+int runModel(Arguments& a) {
+  io::ModelFile file = loadModel(a);
+  for (const std::string& key : file.unknown_keys) {
+    std::cerr << "pkm_verify: warning: --robot: " << a.robot << ": key '" << key << "' is not used (unknown key)\n";
+  }
+  if (a.uncertainty) {
+    model::RobotDescription d = file.description;
+    for (model::GeometryValue& g : d.geometry) {
+      if (g.unit != "m") continue;
+      g.lo = -*a.uncertainty;
+      g.hi = *a.uncertainty;
+    }
+    try {
+      file.model = model::ModelRegistry::global().find(file.type)->make(d);
+    } catch (const InvalidArgument& e) {
+      badArgument("--uncertainty", e.what());
+    }
+    file.description = d;
+  }
+  const model::RobotModel& model = *file.model;
+  if (a.list_workspaces) {
+    std::cout << a.robot << ": " << file.workspaces.size() << " workspace" << (file.workspaces.size() == 1 ? "" : "s")
+              << "\n";
+    for (const auto& kv : file.workspaces) {
+      std::cout << "  " << kv.first << ":";
+      const IVec& b = kv.second->initialBox();
+      for (int i = 0; i < b.size(); ++i) {
+        const std::string n = kv.second->variableName(i);
+        std::cout << " " << n.substr(0, n.find(' ')) << " [" << tools::shortNumber(b[i].lower()) << ", "
+                  << tools::shortNumber(b[i].upper()) << "]";
+      }
+      std::cout << "\n";
+    }
+    return 0;
+  }
+  if (a.at_text) return printAt(model, a.robot, file.type, parsePose(*a.at_text, model));
+
+  io::RunInfo info;
+  info.version = pkm_accuracy::version();
+  info.robot = a.robot;
+  info.robot_type = file.type;
+  const std::shared_ptr<const domain::Domain> target = resolveModelWorkspace(file, a, info.workspace);
+  info.workspace_region = "box";
+  info.workspace_box = target->initialBox();
+  for (int i = 0; i < target->variables(); ++i) info.variables.push_back(target->variableName(i));
+  info.components.clear();
+  info.units.clear();
+  for (int k = 0; k < model.dof(); ++k) {
+    info.components.push_back("d" + file.description.pose[static_cast<std::size_t>(k)].name);
+    info.units.push_back(file.description.pose[static_cast<std::size_t>(k)].unit);
+  }
+  for (int p = 0; p < model.geometryParameterCount(); ++p) {
+    info.geometry_parameters.push_back(model.geometryParameterName(p));
+    info.geometry_ranges.push_back(model.geometryParameterRange(p));
+    const Interval r = model.geometryParameterRange(p);
+    info.anchor_uncertainty = std::max(info.anchor_uncertainty, r.rad());
+  }
+  info.uniform_uncertainty = false;
+  if (a.thresholds_text) {
+    const auto t = parseValues("--thresholds", *a.thresholds_text, info.components, info.units, 0.0, true);
+    a.options.thresholds = DVec::Zero(model.dof());
+    for (int k = 0; k < model.dof(); ++k) a.options.thresholds[k] = t[static_cast<std::size_t>(k)];
+  } else if (a.options.mode == verify::Mode::Verify) {
+    std::string list;
+    for (const std::string& c : info.components) list += (list.empty() ? "" : ",") + c;
+    badArgument("--thresholds", "required in verify mode: " + std::to_string(model.dof()) +
+                                    " comma-separated values > 0, " + list + " (or use --mode max-error)");
+  }
+  if (a.min_width_text) {
+    std::vector<std::string> names, units;
+    for (int i = 0; i < target->variables(); ++i) {
+      const std::string n = target->variableName(i);
+      names.push_back(n.substr(0, n.find(' ')));
+      units.push_back(info.units[static_cast<std::size_t>(i)]);
+    }
+    a.min_width = parseValues("--min-width", *a.min_width_text, names, units, 0.0, false);
+  }
+  return runAndReport(a, model, *target, info);
+}
+
+int run(int argc, char** argv) {
+  Arguments a = parseArguments(argc, argv);
+  if (a.help) {
+    usage(std::cout);
+    return 0;
+  }
+  if (a.version) {
+    std::cout << "pkm_verify " << pkm_accuracy::version() << "\n";
+    return 0;
+  }
+  if (a.list_types) {
+    for (const std::string& n : model::ModelRegistry::global().names()) {
+      std::cout << n << ": " << model::ModelRegistry::global().find(n)->summary << "\n";
+    }
+    return 0;
+  }
+  if (a.type != "gough") return runModel(a);
+
+  struct stat st;
+  if (::stat(a.robot.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    badArgument("--robot", a.robot + ": not a regular file");
+  }
+  io::RobotFile robot = [&] {
+    try {
+      return io::loadRobotFile(a.robot);
+    } catch (const InvalidArgument& e) {
+      badArgument("--robot", e.what());
+    } catch (const std::exception& e) {  // e.g. an I/O error of the stream under the YAML parser
+      badArgument("--robot", a.robot + ": cannot read: " + e.what());
+    }
+  }();
+  for (const std::string& key : robot.unknown_keys) {
+    std::cerr << "pkm_verify: warning: --robot: " << a.robot << ": key '" << key << "' is not used (unknown key)\n";
+  }
+  if (a.list_workspaces) {
+    listWorkspaces(robot, a.robot);
+    return 0;
+  }
+  if (a.uncertainty) {
+    robot.geometry.setUniformAnchorUncertainty(*a.uncertainty);
+    try {
+      robot.geometry.validate();
+    } catch (const InvalidArgument& e) {
+      badArgument("--uncertainty", e.what());
+    }
+  }
+  const model::GoughPlatform model(robot.geometry);
+  if (a.at_text) return printAt(model, a.robot, "gough", parsePose(*a.at_text, model));
+
+  io::RunInfo info;
+  info.version = pkm_accuracy::version();
+  std::shared_ptr<const domain::Domain> domainPtr;
+  if (a.trajectory.empty()) {
+    std::optional<domain::RigidTransform> frame;
+    auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace, frame));
+    info.workspace_region = workspace->region().typeName();
+    domainPtr = workspace;
+    if (frame) {
+      // Given in a frame F: verified in the base frame; the variables stay the workspace's own (in F).
+      const auto framed = std::make_shared<domain::TransformedDomain>(workspace, *frame);
+      domainPtr = framed;
+      info.workspace += ", in " + framed->frameDescription();
+    }
+  } else {
+    const io::TrajectoryFile file = loadTrajectory(a.trajectory);
+    info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
+    info.trajectory = a.trajectory;
+    info.trajectory_type = file.description;
+    info.workspace_region = file.region;
+    if (file.trajectory) {
+      info.time_start = file.trajectory->startTime();
+      info.time_end = file.trajectory->endTime();
+    }
+    domainPtr = file.domain;
+  }
+  const domain::Domain& target = *domainPtr;  // what is verified
+  info.robot = a.robot;
+  info.workspace_box = target.initialBox();
+  for (int i = 0; i < target.variables(); ++i) info.variables.push_back(target.variableName(i));
+  info.components.assign(std::begin(kComponents), std::end(kComponents));
+  info.units.assign(std::begin(kUnits), std::end(kUnits));
+  for (int p = 0; p < model.geometryParameterCount(); ++p) {
+    info.geometry_parameters.push_back(model.geometryParameterName(p));
+    info.geometry_ranges.push_back(model.geometryParameterRange(p));
+  }
+  describeUncertainty(robot.geometry, info);
+
+  if (a.min_width_text && !a.trajectory.empty()) a.min_width = parseList("--min-width", *a.min_width_text, target);
+  return runAndReport(a, model, target, info);
 }
 
 /// One line: newlines of nested messages (e.g. YAML parser errors) become spaces.

@@ -714,7 +714,7 @@ TEST_F(CliTest, RobotFileWorkspaceInAFrame) {
 }
 
 TEST_F(CliTest, MaxErrorOutOfBudgetExitsUndecidedWithTheParentsBounds) {
-  // (alpha 1e-4: 45 boxes to converge since session 38, 1 box at 1e-3.)
+  // (alpha 1e-4: 45 boxes to converge, 1 box at 1e-3.)
   const Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--mode", "max-error", "--alpha", "0.0001",
                           "--max-boxes", "20", "--threads", "1"},
                          2);
@@ -808,7 +808,7 @@ TEST_F(CliTest, JsonOnStdoutAndUncertainty) {
 
 TEST_F(CliTest, TimeLimitAndProgressInAPipe) {
   // Max-error to 0.1 % over the whole paper workspace with the anchors known to +-1 mm: far from done after 1.5 s
-  // (more than 15 s on 1 thread; without the uncertainty it now converges in about 1 s). --progress in a pipe: plain
+  // (more than 15 s on 1 thread; without the uncertainty it converges in about 1 s). --progress in a pipe: plain
   // lines, no carriage returns or escape sequences.
   const RunResult r =
       run({"--robot", kRef6, "--workspace", "paper", "--mode", "max-error", "--alpha", "0.001", "--uncertainty",
@@ -915,8 +915,8 @@ TEST_F(CliTest, UncertaintySensitivePoseIsReportedWithItsGeometries) {
 TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   // Always: the geometry is bisected from the start, so a box budget leaves undecided boxes with narrowed geometry
   // ranges (listed per box, named); never: no geometry split at all. At +-0.5 mm, dx 0.02% above its maximum
-  // (1.1328e-4; at 0.06% the run settles in 5 boxes without a geometry split since the residual radius of the
-  // nominal expansion, session 38, and at +-0.1 mm the pose bisection alone settles even 0.1%). The whole run takes
+  // (1.1328e-4; at 0.06% the run settles in 5 boxes without a geometry split, and at +-0.1 mm the pose bisection
+  // alone settles even 0.1%). The whole run takes
   // 39 boxes and 12 geometry splits; one thread, so the budget of 10 stops it at the same point every time (7 boxes
   // left, 4 of them on geometry halves).
   const std::vector<double> thresholds = {1.1330e-4, 1.3e-4, 1e-3, 1e-2, 1e-2, 1e-2};
@@ -960,8 +960,8 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_splits"].num(), 0.0);
 
-  // --geometry-form: dx 0.09% above its maximum, both forms certify it, with different searches (measured, session
-  // 38: 11 and 1 boxes, the decomposed form's nominal part with the residual radius; session 27: 11 and 15).
+  // --geometry-form: dx 0.09% above its maximum, both forms certify it, with different searches (measured: 11 and 1
+  // boxes).
   std::vector<double> looser = thresholds;
   looser[0] = 1.1338e-4;
   Json forms[2];
@@ -1005,7 +1005,7 @@ TEST_F(CliTest, MaxErrorWithUncertaintyNamesTheWorstGeometry) {
   EXPECT_GT(lower[0], nominal[0]);
 }
 
-// Per-coordinate half-widths and a tool-point box from the robot file (issue #5's input): the base anchors uncertain
+// Per-coordinate half-widths and a tool-point box from the robot file: the base anchors uncertain
 // in x and y only (6 triples), the platform anchors in every coordinate (one number), the tool point in x. The report
 // names the 12 + 18 + 1 parameters with their ranges, and its bracket holds against sampled poses and geometry
 // vertices (dz's maximum rises by ~5% with the tool point's +-2 cm in x).

@@ -214,8 +214,8 @@ TEST(ErrorEnclosure, SecondOrderOnExactGeometryUsesTheAffineFormAndItsSignsHold)
 TEST(ErrorEnclosure, SecondOrderIsTightOnEighthBoxesThroughTheCentredPoseDerivatives) {
   // Boxes of 1/8 of every range at workspace corners (where the errors are largest): the pose slopes through the
   // model's Hessian (AffineInverseAction::prepare, second-order Taylor slopes) keep the bound within 13% of the
-  // sampled maximum over the box; with the centred derivative ranges it was 5-26% above it, with the direct derivative
-  // enclosures alone 22-104%.
+  // sampled maximum over the box; with the centred derivative ranges alone it is 5-26% above it, with the direct
+  // derivative enclosures alone 22-104%.
   const io::RobotFile rf = test::ref6File();
   const model::GoughPlatform robot(rf.geometry);
   const domain::Workspace& ws = rf.workspaces.at("paper");

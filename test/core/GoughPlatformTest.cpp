@@ -328,7 +328,7 @@ TEST(GoughPlatform, PreconditionedHessianMagnitudeBoundsEveryPointAndBeatsTheInt
   // The affine-form bound of |C d^2 J^-1 / dt_i dt_l| over a pose box against the analytic Hessian at points of the
   // box (HessianEnclosuresContainSecondDerivatives checks that one against finite differences), C the inverse of J^-1
   // at the box centre as in the expansions; on boxes of 1/8 of the ranges it must also be far below the interval
-  // Hessian's |C Hm| + |C| Hr, which loses the cancellations between legs (bench/RESULTS.md, Session 24).
+  // Hessian's |C Hm| + |C| Hr, which loses the cancellations between legs (docs/enclosures.md, Affine Hessian bound).
   io::RobotFile rf = test::ref6File();
   rf.geometry.tool_point = Eigen::Vector3d(0.01, -0.02, 0.03);
   const model::GoughPlatform robot(rf.geometry);

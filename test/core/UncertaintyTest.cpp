@@ -1,4 +1,4 @@
-// Issue #5: bounded geometric uncertainty on the anchor points (every anchor coordinate known to +-h).
+// Bounded geometric uncertainty on the anchor points (every anchor coordinate known to +-h; docs/uncertainty.md).
 //
 // The evidence is independent of the code under test: admissible geometries are built here as plain GoughGeometry
 // values (nominal +- h per coordinate, in the documented parameter order), the worst error at a pose and a geometry
@@ -811,8 +811,7 @@ void checkSecondOrderOnRandomBoxes(bool decomposed) {
     }
     // Not vacuous: on a single pose the bound exceeds the worst geometry found by a second-order amount only
     // (measured, combined: 0.14% at h = 0.5 mm, 1.5% with the tool point too, 1.8% at h = 1 mm, where f_k itself
-    // varies by +-8% and +-15%; decomposed: 0.12% and 1.2% since the sign-coupled second-order terms of session 27,
-    // 0.21% and 1.7% before).
+    // varies by +-8% and +-15%; decomposed: 0.12% and 1.2% with the sign-coupled second-order terms).
     EXPECT_LT(worstGap, tool ? 0.03 : (h == 0.0005 ? 0.015 : (decomposed ? 0.02 : 0.08)));
     std::cout << "[ info     ] " << (decomposed ? "decomposed" : "combined") << ", h=" << h
               << (tool ? " with tool point" : "")
@@ -1655,7 +1654,7 @@ TEST(UncertaintyAffineInverseAction, BilinearCoefficientsAreTheMixedDerivatives)
 }
 
 // =====================================================================================================================
-// 4. Issue #5 evidence on the reference robot
+// 4. Evidence on the reference robot
 // =====================================================================================================================
 
 namespace {
@@ -1836,9 +1835,9 @@ void checkWitness(const verify::VerifierResult& r, const Uncertain& u, const IVe
 
 }  // namespace
 
-/// The issue's evidence on a corner of the paper workspace (see the TESTs below), with the combined geometry form or
-/// the decomposed one (VerifierOptions::decompose_geometry).
-void checkIssue5Answers(bool decomposed) {
+/// The reference evidence on a corner of the paper workspace (see the TESTs below), with the combined geometry form
+/// or the decomposed one (VerifierOptions::decompose_geometry).
+void checkReferenceAnswers(bool decomposed) {
   SCOPED_TRACE(decomposed ? "decomposed" : "combined");
   const io::RobotFile rf = test::ref6File();
   const IVec box = cornerBox(1.0 / 16.0);
@@ -1939,11 +1938,11 @@ void checkIssue5Answers(bool decomposed) {
   EXPECT_EQ(cases, 2);
 }
 
-TEST(UncertaintyVerifier, Issue5MaxErrorAndVerdictsOnTheReferenceRobot) { checkIssue5Answers(false); }
+TEST(UncertaintyVerifier, MaxErrorAndVerdictsOnTheReferenceRobot) { checkReferenceAnswers(false); }
 
 // VerifierOptions::decompose_geometry: the same answers (brackets that hold and close, SAFE 10% above the sampled
 // maxima, UNSAFE or uncertainty_sensitive as the sampling says 5% below, witnesses for every geometry 30% below).
-TEST(UncertaintyVerifier, DecomposedGeometryFormKeepsTheIssue5Answers) { checkIssue5Answers(true); }
+TEST(UncertaintyVerifier, DecomposedGeometryFormKeepsTheReferenceAnswers) { checkReferenceAnswers(true); }
 
 // Verify mode without stopping at the first witness and without pre-sampling, on a box where every pose exceeds every
 // threshold for every admissible geometry (half the smallest nominal error at its corners and centre): the root box's
@@ -2111,10 +2110,10 @@ TEST(UncertaintyEnclosure, AffineGeometryDotsKeepTheCornerBoundsTight) {
 TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
   // h = 1 mm on the 1/32 corner box. At +0.4% of the sampled maxima strategy (a) alone does not conclude within 3 000
   // boxes (the plain bound stays above the worst geometry by its second-order geometry remainder), while stalled paths
-  // (stall_levels = 1) that switch to bisecting the geometry prove SAFE (measured, session 38: 81 boxes, 18 geometry
-  // splits, since the residual radius; session 27: 183 boxes, 32 splits; at +0.75% strategy (a) settles the box in 5
-  // boxes, at +0.2% neither within 2e4). 1% below the maxima every mode must find the same uncertainty-sensitive
-  // answer. The faces step, which stalled paths take first, is off here (its own tests are in section 7).
+  // (stall_levels = 1) that switch to bisecting the geometry prove SAFE (measured: 81 boxes, 18 geometry splits; at
+  // +0.75% strategy (a) settles the box in 5 boxes, at +0.2% neither within 2e4). 1% below the maxima every mode must
+  // find the same uncertainty-sensitive answer. The faces step, which stalled paths take first, is off here (its own
+  // tests are in section 7).
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = cornerBox(1.0 / 32.0);
@@ -2268,7 +2267,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   // h = 1 mm on the 1/128 corner box at +0.4% of the sampled maxima: the single-pose bound exceeds the worst
   // geometry by more than that at the corner (second-order remainder), so strategy (a) alone cannot conclude;
   // bisecting the geometry does (the faces off), and so do the faces. (At +0.75% strategy (a) settles the box at
-  // once since the sign-coupled second-order terms, session 27; it needed 67 boxes at +1% before them.)
+  // once.)
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = cornerBox(1.0 / 128.0);
@@ -2294,7 +2293,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   std::cout << "[ info     ] faces, no geometry bisection: " << faced.stats.boxes << " boxes\n";
   o.faces = false;
   o.stall_levels = 0;
-  o.max_boxes = 20000;  // a safety net: measured 819 boxes (Always) and 37 (Auto, stall_levels = 1), session 27
+  o.max_boxes = 20000;  // a safety net: a few hundred boxes are measured (Always) and a few dozen (Auto)
   for (const auto mode : {verify::GeometrySplitting::Always, verify::GeometrySplitting::Auto}) {
     o.geometry_splitting = mode;
     o.stall_levels = mode == verify::GeometrySplitting::Auto ? 1 : 0;
@@ -2307,7 +2306,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
     }
   }
   // Max-error mode with geometry bisection: brackets checked independently (alpha 0.5%: at 1% the bounds converge
-  // without any geometry split since the sign-coupled second-order terms, session 27; at 0.3% not within 20 s).
+  // without any geometry split; at 0.3% not within 20 s).
   verify::VerifierOptions m;
   m.mode = verify::Mode::MaxError;
   m.alpha = 0.005;
@@ -2616,20 +2615,19 @@ TEST(UncertaintyEnclosure, FaceBoundsHoldForEveryGeometryAndReachTheWorstVertex)
   }
   EXPECT_EQ(checked, 5 * 3 * 6);
   EXPECT_GE(atVertex, 10) << "of 12 (component, thin corner) pairs";
-  // (The plain bound is 0.5-1.3% above the worst vertex there since the fixed point of the B refinement.)
+  // (The plain bound is 0.5-1.3% above the worst vertex there, with the fixed point of the B refinement.)
   EXPECT_GE(tighter, 10) << "of 12 (component, thin corner) pairs tighter than the plain bound by 0.2%";
 }
 
 TEST(UncertaintyVerifier, FacesCertifyMarginsBelowTheFirstOrderRemainder) {
   // h = 1 mm on a small box at the pitch corner, thresholds 0.2% above the sampled maximum of pitch (the others
   // out of reach): the plain geometry-aware bound stays ~0.4% above the maximum there whatever the pose box (its
-  // second-order geometry remainder; ~0.8% before the sign-coupled second-order terms of session 27, ~1.6% when the
-  // test was written); stalled paths switch to the faces, whose bounds reach the worst vertex: SAFE.
+  // second-order geometry remainder); stalled paths switch to the faces, whose bounds reach the worst vertex: SAFE.
   // 0.5% below the sampled maximum it must not be SAFE (the sampled maximum is attained at an admissible geometry).
   // Both geometry forms (the decomposed default switches stalled paths to the combined form for the faces). Measured
-  // (session 27, +0.2%): see the info line; (session 23, +0.5%): 31 boxes each (255 with 6 stall levels instead of the
-  // default 3); with the stall test's old 10% progress the decomposed default's paths reached the faces only at the
-  // precision limit (UNDECIDED after 200 001 boxes) and the combined form needed 2 439.
+  // (+0.2%): see the info line; (+0.5%): 31 boxes each (255 with 6 stall levels instead of the default 3); with a 10%
+  // progress step in the stall test the decomposed default's paths reach the faces only at the precision limit
+  // (UNDECIDED after 200 001 boxes) and the combined form needs 2 439.
   const Uncertain u(withUncertainty(0.001));
   const model::GoughPlatform robot(u.geometry);
   const IVec box = pitchCorner(0.0001, 0.00015);
@@ -2736,9 +2734,9 @@ TEST(UncertaintyEnclosure, ToolPointBoxIsBoundedAtItsVertices) {
   EXPECT_GT(lowers, 36);           // (the translation components' lower bounds lose 2 |c - c_v| (f_a + f_b))
 }
 
-// The tool point's box at +-5 mm on a 2 cm box: max-error to 2% converges in a few boxes (before the vertices, session
-// 31: not within 57 000 boxes and 10 s, every component's bracket 2-5% wide), and the bracket holds against the
-// exact-tool robots at the tool vertices (3^6 poses each) and at the argmax geometries.
+// The tool point's box at +-5 mm on a 2 cm box: max-error to 2% converges in a few boxes (with the tool point as a
+// first-order parameter: not within 57 000 boxes and 10 s, every component's bracket 2-5% wide), and the bracket
+// holds against the exact-tool robots at the tool vertices (3^6 poses each) and at the argmax geometries.
 TEST(UncertaintyVerifier, ToolPointUncertaintyConvergesAtItsVertices) {
   model::GoughGeometry g = test::ref6File().geometry;
   g.tool_point_halfwidth = Eigen::Vector3d::Constant(0.005);

@@ -322,8 +322,8 @@ TEST(Verifier, BudgetsAndCancellationGiveUndecidedWithTheirReason) {
   EXPECT_EQ(r.reason, verify::UndecidedReason::Cancelled);
 
   // The time budget on a job that needs many seconds: max-error to 1% over the paper workspace at +-38 deg (~8 s on
-  // one thread; the +-15 deg one at +5% of its maxima, used here before, now takes about 0.2 s, and the +-40 deg one
-  // contains singular poses, which end a max-error run at once).
+  // one thread; the +-15 deg one at +5% of its maxima takes about 0.2 s, and the +-40 deg one contains singular
+  // poses, which end a max-error run at once).
   const io::RobotFile file = test::ref6File();
   const model::GoughPlatform robot(file.geometry);
   const double a = 0.6632251157578453;
@@ -420,9 +420,8 @@ TEST(Verifier, DerivativeStepKeepsVerdictsAndBrackets) {
   const auto stepped = verify::Verifier::run(s.robot, s.ws, o);
   EXPECT_EQ(plain.verdict, Verdict::Safe) << plain.message;
   EXPECT_EQ(stepped.verdict, Verdict::Safe) << stepped.message;
-  // The step only lowers bounds the second-order form leaves open (before 2026-12-05 asking for its derivatives
-  // replaced that form by the interval one on every box: here 15 -> 813 boxes, on the paper workspace 2 319 ->
-  // 1.38e6).
+  // The step only lowers bounds the second-order form leaves open (a step that replaced that form by the interval one
+  // on every box would take 813 boxes here instead of 15, and 1.38e6 on the paper workspace instead of 2 319).
   EXPECT_LE(stepped.stats.boxes, plain.stats.boxes * 5 / 4);
   o.threads = 0;
   o.thresholds = maxima * 1.10;
@@ -434,9 +433,9 @@ TEST(Verifier, DerivativeStepKeepsVerdictsAndBrackets) {
 
 // VerifierOptions::skip_hopeless changes the search order only: the same verdicts, witnesses that really exceed,
 // brackets that contain the sampled maxima; and on this workspace it does split halves without enclosing them (1
-// thread: deterministic counts). Whether that saves boxes is a benchmark's question (bench/RESULTS.md: on the paper
-// workspace 6 871 against 7 651 boxes, 21 539 against 22 679 at +-1 mm; on this half workspace, since the affine
-// Hessian bound of session 24, 319 against 299): here only that it costs no more than a quarter more.
+// thread: deterministic counts). Whether that saves boxes is a benchmark's question (docs/algorithm.md: 10-15% fewer
+// on the paper workspace; on this half workspace it can cost a few more): here only that it costs no more than a
+// quarter more.
 TEST(Verifier, SkippingHopelessHalvesKeepsVerdictsAndBrackets) {
   SubWorkspace s(1.0 / 2.0);
   const DVec maxima = sampledMaxima(s.robot, s.ws.initialBox(), 20000, 13);

@@ -37,8 +37,8 @@ constexpr const char* kAction = "/pkm_accuracy/verify_workspace";
 VerifyWorkspaceGoal goalOf(const VerifyWorkspace::Request& r) { return convert<VerifyWorkspaceGoal>(r); }
 
 VerifyWorkspaceGoal longGoal() {
-  // (k38deg: more than 20 s on one thread; at +-15 deg it converges to 1e-4 in about a second since session 25,
-  // which would race with the cancel.)
+  // (k38deg: more than 20 s on one thread; at +-15 deg it converges to 1e-4 in about a second, which would race with
+  // the cancel.)
   auto req = boxRequest(0.15, 0.45, 0.50, k38deg, kNone, "max_error");
   req.alpha = 1e-4;
   req.time_budget = 30.0;

@@ -256,9 +256,8 @@ TEST(Uncertainty, VarietyReportsTheUncertaintySensitiveParameters) {
 
 TEST(Uncertainty, GeometrySplittingOptionsReachTheVerifier) {
   // dx just above the worst geometry's maximum (1.1028e-4, within 0.005%): SAFE. "always" bisects the geometry from
-  // the start; "never" does not bisect it at all (the faces suffice here). (At 0.1% above it, "always" settles the box
-  // by pose bisection alone since the affine geometry derivatives, at 0.06% since the affine Hessian bound, and at
-  // 0.02% since the residual radius, session 38.)
+  // the start; "never" does not bisect it at all (the faces suffice here). (At 0.02% above it and more, "always"
+  // settles the box by pose bisection alone.)
   const std::array<double, 6> thresholds = {1.10285e-4, 1.2e-4, 1e-3, 1e-2, 1e-2, 1e-2};
   auto req = smallRequest(thresholds);
   req.threads = 1;

@@ -66,6 +66,7 @@ struct RunInfo {
   std::string tool = "pkm_verify";
   std::string version;                 ///< the package's version (pkm_accuracy::version())
   std::string robot;                   ///< robot file path
+  std::string robot_type = "gough";    ///< the robot's type (model::ModelRegistry)
   std::string workspace;               ///< workspace name (from the robot file) or workspace file path
   std::string workspace_region;        ///< "box", "cylinder", "sphere", "polyhedron"
   IVec workspace_box;                  ///< initial box of the domain's variables

@@ -44,7 +44,7 @@ struct RobotFile {
   /// The frames of the named workspaces that have a `frame` key (the pose of the workspace's frame in the base frame).
   std::map<std::string, domain::RigidTransform> workspace_frames;
   std::vector<double> anchor_uncertainty_cases;  ///< optional list (m)
-  /// Top-level keys that neither the robot file nor the node's parameters (README) use, e.g. a misspelt
+  /// Top-level keys that neither the robot file nor the node's parameters (docs/ros_api.md) use, e.g. a misspelt
   /// "tool_point_uncertanty": not errors (a file may carry other tools' keys), but worth a warning.
   std::vector<std::string> unknown_keys;
 };

@@ -222,7 +222,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // variation over the box adds up in magnitude: on boxes of 1/8 of every range at the paper workspace's corners the
   // bounds of f_k drop from 22-104% to 5-26% above the sampled maxima (ErrorEnclosureTest), and the search keeps 8x
   // fewer boxes. With the interval Hessian both enclosures are valid and their intersection is kept; with the model's
-  // affine bound of |C H_il| (below) the centred range alone, which was then always the narrower. Only where the box
+  // affine bound of |C H_il| (below) the centred range alone, which is then always the narrower. Only where the box
   // variables are the pose coordinates themselves (workspace boxes; the Hessian is with respect to the pose) and the
   // model provides it. (A model call gives the first derivatives at the centre, in place of the dual-number evaluation
   // of the direct path; the interval Hessian's call also those over the box.)
@@ -249,7 +249,7 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   for (int i = 0; i < vars_ && atCentreOk; ++i) atCentreOk = atCentre.first[i].rows() == n_;
   // |C H_il| over the box: preferably the model's bound through affine forms of H in the pose (C keeps its
   // cancellations against the Hessian's variation over the box, which |C| rad(H) of the interval Hessian loses: on the
-  // paper workspace's deciding boxes the sampled variation of C H is 1/14 of that; bench/RESULTS.md, Session 24);
+  // paper workspace's deciding boxes the sampled variation of C H is 1/14 of that; docs/enclosures.md);
   // else the interval Hessian over the box, |C Hm| + |C| Hr, which also gives the first derivatives' ranges.
   const bool affineHessian =
       atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH, midpoint ? &linCH : nullptr,
@@ -459,8 +459,8 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // parts of all the terms add up to two products: |gm| W + gr |S| with W = sum over the terms of |dev| (xr +
   // gamma |xm|) (the plain products' rounding errors are in the gamma part); likewise |S C| with |C| W.
   {
-    // (The entries x n products through productEach(): a third of prepare()'s instructions at +-0.5 mm were these
-    // products as Eigen's lazy ones.)
+    // (The entries x n products through productEach(): as Eigen's lazy products they are a third of prepare()'s
+    // instructions at +-0.5 mm.)
     DMat w = upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs()));
     EntryMat ds = EntryMat::Zero(entries_, n_);
     const auto addAbs = [](EntryMat& to, double scale) {

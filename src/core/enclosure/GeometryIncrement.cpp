@@ -466,10 +466,9 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
   out.fixed = Form::fromParts(lc[1], la[1], up(lr[1] + kSumMargin * lerr[1]));
   // Second order: sum_i J0_ki sum_i' (delta r_i . J0_{.,i'}) (delta r_i' . y) <= sum_i |J0_ki| phi_i(B), B >= |delta r
   // . y| the fixed point of B <= B0 + phi(B) (B0 >= |delta r . w|; y = w - J0 Delta M y), tightened from the linear
-  // one. (Session 27: the signs of the delta r_i' . y chosen jointly for row i, where (A B)_i takes every pair (i, i')
-  // at its own worst geometry: +-1 mm 11 123 -> 10 123 boxes, 1% above the maxima 25 955 -> 22 375; the bound of this
-  // sum as a function of the pose that sessions 21-26 kept beside the constant one no longer won: 10 127 boxes with
-  // it.)
+  // one. (The signs of the delta r_i' . y are chosen jointly for row i, where (A B)_i takes every pair (i, i') at its
+  // own worst geometry: about 9% fewer boxes at +-1 mm, 14% at 1% above the maxima; with it, a bound of this sum as a
+  // function of the pose beside the constant one gains nothing, docs/design-notes.md.)
   double b0[kMaxDof], b[kMaxDof];
   for (int i = 0; i < n_; ++i) {
     b0[i] = rowB0(i, 0);

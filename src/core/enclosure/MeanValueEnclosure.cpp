@@ -717,9 +717,9 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   }
 
   // Exact geometry, boxes of 3 or more variables: the same affine second-order form without geometry terms, which
-  // keeps far fewer boxes (paper workspace +5%: 0.66e6 instead of 1.64e6, bench/RESULTS.md). With one variable
-  // (trajectories) the form below is as tight and cheaper (trajectory_bench, 1 thread, same run: 547 boxes in
-  // 28-32 ms with the affine form, 561 in 16-18 ms without; two variables were not measured). The form below also
+  // keeps far fewer boxes (paper workspace +5%: about 2.5x fewer, docs/enclosures.md). With one variable
+  // (trajectories) the form below is as tight and cheaper (trajectory_bench, 1 thread, one run: 547 boxes in
+  // 28-32 ms with the affine form, 561 in 16-18 ms without; two variables are not measured). The form below also
   // when the affine one cannot be built, and when the caller needs its internals (the derivative step).
   constexpr int kAffineFromVariables = 3;
   if (secondOrder_ && !model.hasGeometryUncertainty() && box.hasGradient && !box.keepInternals &&
@@ -783,7 +783,7 @@ void MeanValueEnclosure::encloseImpl(const model::RobotModel& model, const BoxIn
   //   N(t) in (I - E0 + R) - sum_i D_i dev_i,   R in E_box^2 N_box (second order in the box size).
   // Where J_kj keeps a sign s_kj on the box, |J_kj| = s_kj J_kj, so with w_k = s_k o e and v_k = C w_k:
   //   sum_{j signed} |J_kj| e_j = (N v_k)_k  in  (I - E0 + R)_k. v_k - sum_i (D_i v_k)_k dev_i,
-  // where the first-order coefficients (D_i v_k)_k now cancel across j instead of adding up entry by entry.
+  // where the first-order coefficients (D_i v_k)_k cancel across j instead of adding up entry by entry.
   // Entries whose sign may change are bounded by their magnitude. Both bounds are valid; the tighter one is kept.
   DMat magE(n, n), magN(n, n);
   for (int r = 0; r < n; ++r)

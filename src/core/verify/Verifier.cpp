@@ -110,10 +110,10 @@ class Run {
     }
     int varying = 0;
     for (int i = 0; i < m_; ++i) varying += initWidth_[i] > 0.0 ? 1 : 0;
-    // (Default: half the varying box variables, at least 2. Session 23, paper workspace at +-1 mm, 2 threads: with
-    // the halving progress test 6 levels cost a stalled region 2^6 boxes before its faces: 0.5% above the maxima
-    // 1 337 649 boxes in 90 s, against 118 799 in 8.1 s with 3 levels and 114 739 in 7.8 s with 2; 5% margins
-    // unchanged, 1-2% margins within 1%; bench/RESULTS.md.)
+    // (Default: half the varying box variables, at least 2. Paper workspace at +-1 mm, 2 threads: with the halving
+    // progress test 6 levels cost a stalled region 2^6 boxes before its faces: 0.5% above the maxima 1 337 649 boxes
+    // in 90 s, against 118 799 in 8.1 s with 3 levels and 114 739 in 7.8 s with 2; 5% margins unchanged, 1-2%
+    // margins within 1%; docs/design-notes.md.)
     stallLevels_ = options.stall_levels > 0 ? options.stall_levels : std::max(2, (varying + 1) / 2);
   }
 
@@ -175,7 +175,7 @@ class Run {
     in.useFaces = track.useFaces;
     // (The decomposed form except on the paths bounded on their faces: the combined one certifies the monotone
     // directions the faces need. Geometry halves (strategy (b), Auto and Always) take the decomposed form about their
-    // own centre since session 27: with the sign-coupled second-order terms it is the tighter one there too, and its
+    // own centre: with the sign-coupled second-order terms it is the tighter one there too, and its
     // first-order coefficients give the geometry hints. The 1/32 corner box at +-1 mm, 0.4% above its sampled
     // maxima: Auto SAFE after 183 boxes (32 geometry splits), UNDECIDED after 2e4 with the combined form on the halves;
     // Always on the 1/128 corner box SAFE after 819 boxes, UNDECIDED after 2e4 with the combined form.)
@@ -254,10 +254,10 @@ class Run {
     int geometrySplit = -1;
     if (params_ > 0 && (options_.faces || options_.geometry_splitting != GeometrySplitting::Never) && !byWidth) {
       const double excess = relativeExcess(bounds, active);
-      // Progress: the excess at least halved (VerifierOptions::stall_levels). Measured (bench/RESULTS.md, Session
-      // 23): with 10% the decomposed form's paths kept "progressing" towards its floor at single poses (a +0.5%
-      // case UNDECIDED after 200 001 boxes), and the combined form's reached the faces later (2 439 boxes there
-      // against 255 with a halving, both at 6 stall levels); the paper workspace at 5% margins never stalls either way.
+      // Progress: the excess at least halved (VerifierOptions::stall_levels). With a 10% step the decomposed form's
+      // paths keep "progressing" towards its floor at single poses (a +0.5% case UNDECIDED after 200 001 boxes), and
+      // the combined form's reach the faces later (2 439 boxes there against 255 with a halving, both at 6 stall
+      // levels); the paper workspace at 5% margins never stalls either way (docs/design-notes.md).
       if (excess <= kProgress * track.ref) {
         next.ref = excess;
         next.since = 0;
@@ -558,11 +558,14 @@ class Run {
       }
       if (!(score.maxCoeff() > 0.0)) score = bounds.splitScore;
     }
+    // Scores that are not finite (an unbounded enclosure: a box that reaches a singularity or an unreachable pose)
+    // say nothing about the variables: split by width then, so that every variable gets its turn.
+    const bool scored = smear && score.allFinite();
     for (int i = 0; i < m_; ++i) {
       if (!splittable(i)) continue;
       const double scaled = (box[i].upper() - box[i].lower()) / initWidth_[i];
       // Smear scores of 0 (a variable that does not matter) still allow splitting by width as a last resort.
-      const double value = smear ? score[i] + 1e-12 * scaled : scaled;
+      const double value = scored ? score[i] + 1e-12 * scaled : scaled;
       if (value > bestScore) {
         bestScore = value;
         best = i;

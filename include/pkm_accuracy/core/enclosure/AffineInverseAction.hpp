@@ -217,7 +217,7 @@ class AffineInverseAction {
   /// With the affine forms (affine_ must be true): [dm -+ dr](e, j) encloses d_e . v_j for every pose of the box
   /// and every geometry, centre . v +- (sum_m |slope_m . v| + the radii's and roundings' parts), which keeps the
   /// first-order correlations between the components of d_e over the pose box (the interval product [d_e] . v adds
-  /// up their ranges, and was never the narrower one: measured, the same boxes without it).
+  /// up their ranges, and is never the narrower one: measured, the same boxes without it).
   /// With dr0 (and sv): also the radius without the slope part sum_m |slope_m . v| (the rest covers the roundings of
   /// the slope products too) and the slope products slope_m . vm themselves (sv[m](e, j)).
   void affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr, EntryMat* dr0 = nullptr,

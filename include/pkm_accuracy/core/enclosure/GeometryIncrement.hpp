@@ -35,11 +35,10 @@
 // the geometry at once, so its remainder carries the products of pose and geometry deviations through the inverse
 // (|L S y|, |S L y|, |L L y|, ...), each bounded in magnitude; here the nominal part keeps the nominal remainder and
 // the geometry part is exact to first order in the geometry with a remainder of second order in h. With the
-// increment known exactly to first order (an unsound point estimate, bench/patches/point_increment_oracle.patch) the
-// search would need fewer boxes at +-1 mm than the nominal case; as built (session 22) it needs 57 551 boxes at
-// +-1 mm and 32 771 at +-0.5 mm against the combined form's 79 887 and 35 719 (bench/RESULTS.md): the radii of the
-// forms of w and J0 (the nominal expansion's remainder) still enter the strongly cancelling dot products
-// dbar_p . w in magnitude, and so the second-order sum and the secants.
+// increment known exactly to first order (an unsound point estimate, docs/design-notes.md) the search would need
+// fewer boxes at +-1 mm than the nominal case; with the combined form it needs more boxes than with this one
+// (docs/uncertainty.md): the radii of the forms of w and J0 (the nominal expansion's remainder) still enter the
+// strongly cancelling dot products dbar_p . w in magnitude, and so the second-order sum and the secants.
 //
 // Rounding: the affine forms' arithmetic (interval::AffineForm) is rigorous; the non-negative bounds are sums of
 // products computed in double and rounded up with a relative margin of 1e-12 (sums of at most 64 products have

@@ -33,6 +33,8 @@ struct GeometryValue {
   /// 0, 1, 2 if this value is the x, y, z coordinate of the tool point c (platform frame) of a 6-dof model with the
   /// Gough error convention (RobotModel::toolPointCoordinate); -1 otherwise.
   int tool_point_coordinate = -1;
+  /// Whether a robot file may omit this value (it then keeps `nominal`, the type's default, e.g. a tool point at 0).
+  bool has_default = false;
   bool uncertain() const { return lo != 0.0 || hi != 0.0; }
 };
 

@@ -81,14 +81,13 @@ struct VerifierOptions {
   /// Geometric uncertainty: see GeometrySplitting.
   GeometrySplitting geometry_splitting = GeometrySplitting::Auto;
   /// Auto: a box "keeps splitting without progress" after this many bisection levels without halving its bound's
-  /// excess over the target (0: half the number of box variables, at least 2; the number of them until session 23).
-  /// (Until session 23 a 10% reduction counted as progress: the decomposed geometry form's bound keeps creeping down by
-  /// that much per few levels towards its floor at single poses, so its paths reached the faces too late and too small,
-  /// bench/RESULTS.md "Session 23".)
+  /// excess over the target (0: half the number of box variables, at least 2). (A 10% reduction is not counted as
+  /// progress: the decomposed geometry form's bound creeps down by that much per few levels towards its floor at
+  /// single poses, so its paths would reach the faces too late and too small; docs/design-notes.md.)
   int stall_levels = 0;
   /// Geometric uncertainty: a stalled search path (or a box at the precision limit) first bounds each component on
   /// the face of the geometry box where it is certified monotone (enclosure::BoxInput::useFaces), before any
-  /// geometry bisection; false skips that step (strategy (a) as it was, then (b)).
+  /// geometry bisection; false skips that step (strategy (a), then (b)).
   bool faces = true;
   /// Split a box's two halves again at once, without enclosing them, when the box's own enclosure predicts that
   /// neither can be decided: some component's bound, minus the whole share of the split variable in it (the smear
@@ -98,14 +97,13 @@ struct VerifierOptions {
   /// 2-parameter varieties). False encloses every box.
   bool skip_hopeless = true;
   /// Geometric uncertainty, second_order method, workspace boxes: bound the nominal error and its increase over the
-  /// geometry separately (enclosure::GeometryIncrement, the "decomposed" form, the default) on the search paths that
-  /// have not stalled, and use one expansion around the pose and the geometry together (the "combined" form) once a
-  /// path works on its faces or bisects the geometry (and everywhere with GeometrySplitting::Always); false: the
-  /// combined form everywhere. Both are rigorous. The decomposed form gives no monotone geometry directions (the
-  /// combined one certifies them where the faces need them) and needs the model's affine geometry derivatives
-  /// (anchors, not the tool point: else the combined form runs). Paper workspace, 5% margins: fewer boxes (+-1 mm
-  /// 57 551 against 79 887, +-0.5 mm 32 771 against 35 719) and faster (bench/RESULTS.md, "Session 22" and "Session
-  /// 23"); margins below the first-order floor at single poses still get the faces.
+  /// geometry separately (enclosure::GeometryIncrement, the "decomposed" form, the default) on every search path,
+  /// geometry halves included (about their own centre), and use one expansion around the pose and the geometry
+  /// together (the "combined" form) on the paths that work on their faces; false: the combined form everywhere. Both
+  /// are rigorous. The decomposed form gives no monotone geometry directions (the combined one certifies them where the
+  /// faces need them) and needs the model's affine geometry derivatives (anchors, not the tool point: else the combined
+  /// form runs). Paper workspace, 5% margins: fewer boxes and faster than the combined form (docs/uncertainty.md);
+  /// margins below the first-order floor at single poses still get the faces.
   bool decompose_geometry = true;
   /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
   int centre_check_period = 2;

@@ -22,6 +22,7 @@ RobotDescription GoughKinematics::description() {
   for (int k = 0; k < 3; ++k) {
     GeometryValue c{std::string("tool_point.") + kAxis[k]};
     c.tool_point_coordinate = k;
+    c.has_default = true;
     d.geometry.push_back(c);
   }
   return d;

@@ -15,7 +15,11 @@ RobotDescription Planar3RPRKinematics::description() {
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 2; ++k)
         d.geometry.push_back({std::string(group) + "[" + std::to_string(i) + "]." + kAxis[k]});
-  for (int k = 0; k < 2; ++k) d.geometry.push_back({std::string("tool_point.") + kAxis[k]});
+  for (int k = 0; k < 2; ++k) {
+    GeometryValue c{std::string("tool_point.") + kAxis[k]};
+    c.has_default = true;
+    d.geometry.push_back(c);
+  }
   return d;
 }
 

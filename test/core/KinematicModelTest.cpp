@@ -1,0 +1,240 @@
+// KinematicModel<K>: the enclosures derived from a templated J^-1, checked against the hand-written Gough platform,
+// against central differences (of the joint coordinates, of J^-1, in the geometry), against sampled values on random
+// boxes, and through the verifier against a plain double sampler (delta3, generic gough).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "TestRobots.hpp"
+#include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/PoseBox.hpp"
+#include "pkm_accuracy/core/model/KinematicModel.hpp"
+#include "pkm_accuracy/core/model/ModelRegistry.hpp"
+#include "pkm_accuracy/core/model/robots/Delta3Kinematics.hpp"
+#include "pkm_accuracy/core/model/robots/GoughKinematics.hpp"
+#include "pkm_accuracy/core/verify/Verifier.hpp"
+#include "pkm_accuracy/io/ModelFile.hpp"
+
+using namespace pkm_accuracy;
+
+namespace {
+
+std::shared_ptr<const model::RobotModel> delta() {
+  static const io::ModelFile file = io::loadModelFile(test::configPath("delta3.yaml"));
+  return file.model;
+}
+
+const domain::Domain& deltaWorkspace() {
+  static const io::ModelFile file = io::loadModelFile(test::configPath("delta3.yaml"));
+  return *file.workspaces.at("reference");
+}
+
+IVec randomBox(const IVec& within, double fraction, std::mt19937_64& rng) {
+  IVec b(within.size());
+  for (int i = 0; i < within.size(); ++i) {
+    const double w = within[i].upper() - within[i].lower();
+    std::uniform_real_distribution<double> u(within[i].lower(), within[i].upper() - fraction * w);
+    const double lo = u(rng);
+    b[i] = Interval(lo, lo + fraction * w);
+  }
+  return b;
+}
+
+/// Central differences of the joint coordinates: an estimate of J^-1 independent of the templated J^-1.
+DMat differencedJinv(const model::RobotModel& m, const DVec& pose, double h) {
+  DMat out(m.dof(), m.dof());
+  for (int a = 0; a < m.dof(); ++a) {
+    DVec p = pose, q = pose;
+    p[a] += h;
+    q[a] -= h;
+    out.col(a) = (m.legLengths(p) - m.legLengths(q)) / (2.0 * h);
+  }
+  return out;
+}
+
+bool contains(const Interval& enclosure, double v, double slack) {
+  return enclosure.lower() - slack <= v && v <= enclosure.upper() + slack;
+}
+
+}  // namespace
+
+TEST(KinematicModel, GenericGoughAgreesWithTheHandWrittenPlatform) {
+  const model::GoughGeometry g = test::ref6File().geometry;
+  const model::GoughPlatform hand(g);
+  const auto generic = model::makeGenericGough(g);
+  std::mt19937_64 rng(7);
+  const IVec paper = test::ref6File().workspaces.at("paper").initialBox();
+  for (int s = 0; s < 200; ++s) {
+    const DVec q = test::randomPoint(paper, rng);
+    EXPECT_LT((hand.inverseJacobian(q) - generic->inverseJacobian(q)).cwiseAbs().maxCoeff(), 1e-14);
+    EXPECT_LT((hand.legLengths(q) - generic->legLengths(q)).cwiseAbs().maxCoeff(), 1e-14);
+    const IVec box = randomBox(paper, 0.05, rng);
+    const IMat eg = generic->inverseJacobian(box), eh = hand.inverseJacobian(box);
+    const DVec inside = test::randomPoint(box, rng);
+    const DMat v = hand.inverseJacobian(inside);
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j < 6; ++j) {
+        EXPECT_TRUE(eg(i, j).contains(v(i, j))) << "box " << s << " entry " << i << "," << j;
+        EXPECT_FALSE(intersect(eg(i, j), eh(i, j)).isEmpty());
+      }
+    }
+  }
+}
+
+TEST(KinematicModel, JinvIsTheDerivativeOfTheJointCoordinates) {
+  std::mt19937_64 rng(11);
+  const auto d = delta();
+  for (int s = 0; s < 200; ++s) {
+    const DVec q = test::randomPoint(deltaWorkspace().initialBox(), rng);
+    const DMat fd = differencedJinv(*d, q, 1e-6);
+    EXPECT_LT((fd - d->inverseJacobian(q)).cwiseAbs().maxCoeff(), 1e-6 * (1.0 + fd.cwiseAbs().maxCoeff()));
+  }
+}
+
+TEST(KinematicModel, Delta3InverseKinematicsClosesEveryLeg) {
+  // Independent of the model's formulas: the elbow from the crank angle by Eigen, the forearm's length.
+  const auto d = delta();
+  std::mt19937_64 rng(3);
+  for (int s = 0; s < 100; ++s) {
+    const DVec q = test::randomPoint(deltaWorkspace().initialBox(), rng);
+    const DVec theta = d->legLengths(q);
+    for (int i = 0; i < 3; ++i) {
+      const double phi = 2.0 * M_PI * i / 3.0;
+      const Eigen::Vector3d u(std::cos(phi), std::sin(phi), 0.0), z = Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d elbow = 0.2 * u + 0.2 * (std::cos(theta[i]) * u - std::sin(theta[i]) * z);
+      const Eigen::Vector3d joint = Eigen::Vector3d(q[0], q[1], q[2]) + 0.05 * u;
+      EXPECT_NEAR((joint - elbow).norm(), 0.5, 1e-12);
+      EXPECT_GT((elbow - 0.2 * u).dot(u), 0.0) << "elbow-out branch";
+    }
+  }
+}
+
+TEST(KinematicModel, UnreachablePosesGiveUnboundedEnclosures) {
+  const auto d = delta();
+  DVec far(3);
+  far << 0.0, 0.0, -2.0;  // beyond the arms' reach
+  EXPECT_TRUE(std::isnan(d->legLengths(far)[0]));
+  IVec box(3);
+  box << Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-1.0, -0.4);  // partly unreachable
+  const IMat e = d->inverseJacobian(box);
+  EXPECT_FALSE(e(0, 0).isBounded());
+}
+
+TEST(KinematicModel, EnclosuresContainSampledValuesOnRandomBoxes) {
+  const auto d = delta();
+  std::mt19937_64 rng(5);
+  const IVec& ws = deltaWorkspace().initialBox();
+  for (int s = 0; s < 300; ++s) {
+    const IVec box = randomBox(ws, s % 3 == 0 ? 0.3 : 0.05, rng);
+    const IMat e = d->inverseJacobian(box);
+    MatrixHessian h;
+    ASSERT_TRUE(d->inverseJacobianHessianAtGeometryCentre(box, h, true));
+    for (int k = 0; k < 20; ++k) {
+      const DVec q = test::randomPoint(box, rng);
+      const DMat v = d->inverseJacobian(q);
+      const double step = 1e-5;
+      for (int a = 0; a < 3; ++a) {
+        DVec p = q, m = q;
+        p[a] += step;
+        m[a] -= step;
+        const DMat first = (d->inverseJacobian(p) - d->inverseJacobian(m)) / (2.0 * step);
+        for (int b = a; b < 3; ++b) {
+          DVec pb = p, mb = m, pm = p, mp = m;
+          pb[b] += step;
+          mb[b] -= step;
+          pm[b] -= step;
+          mp[b] += step;
+          const DMat second =
+              (d->inverseJacobian(pb) - d->inverseJacobian(pm) - d->inverseJacobian(mp) + d->inverseJacobian(mb)) /
+              (4.0 * step * step);
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+              EXPECT_TRUE(
+                  contains(h.d[MatrixHessian::index(a, b)](i, j), second(i, j), 1e-3 * (1.0 + std::abs(second(i, j)))));
+        }
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            EXPECT_TRUE(contains(h.first[a](i, j), first(i, j), 1e-6 * (1.0 + std::abs(first(i, j)))));
+      }
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) EXPECT_TRUE(e(i, j).contains(v(i, j))) << "box " << s;
+    }
+  }
+}
+
+TEST(KinematicModel, GeometryDerivativesContainDifferencesInTheGeometry) {
+  const model::ModelType* type = model::ModelRegistry::global().find("delta3");
+  ASSERT_NE(type, nullptr);
+  io::ModelFile file = io::loadModelFile(test::configPath("delta3.yaml"));
+  model::RobotDescription desc = file.description;
+  desc.setUncertainty("forearm_length", 1e-3);
+  desc.setUncertainty("motor_angle[1]", 1e-3);
+  const auto m = type->make(desc);
+  ASSERT_EQ(m->geometryParameterCount(), 4);
+  std::mt19937_64 rng(9);
+  for (int s = 0; s < 50; ++s) {
+    const IVec box = randomBox(deltaWorkspace().initialBox(), 0.05, rng);
+    GeometryDerivatives gd;
+    ASSERT_TRUE(m->geometryDerivatives(box, gd));
+    EXPECT_EQ(gd.count, 4);  // each of these values moves one row
+    for (int e = 0; e < gd.count; ++e) {
+      const GeometryRowDerivative& entry = gd.entries[e];
+      const DVec q = test::randomPoint(box, rng);
+      GVec plus = GVec::Constant(4, std::nan("")), minus = plus;
+      const double c = m->geometryParameterCentre(entry.parameter), h = 1e-6;
+      plus[entry.parameter] = c + h;
+      minus[entry.parameter] = c - h;
+      const DMat diff =
+          (m->fixGeometryParameters(plus)->inverseJacobian(q) - m->fixGeometryParameters(minus)->inverseJacobian(q)) /
+          (2.0 * h);
+      for (int l = 0; l < 3; ++l) {
+        const Interval d(entry.d[l].mid() - entry.d[l].rad(), entry.d[l].mid() + entry.d[l].rad());
+        EXPECT_TRUE(contains(d, diff(entry.row, l), 1e-5 * (1.0 + std::abs(diff(entry.row, l)))));
+      }
+      for (int r = 0; r < 3; ++r) {
+        if (r != entry.row) {
+          EXPECT_LT(diff.row(r).cwiseAbs().maxCoeff(), 1e-9) << "row not listed but moved";
+        }
+      }
+    }
+  }
+}
+
+TEST(KinematicModel, Delta3MaxErrorBracketsTheSampledMaximaAndVerdictsFollow) {
+  const auto d = delta();
+  const domain::Domain& ws = deltaWorkspace();
+  std::mt19937_64 rng(1);
+  DVec sampled = DVec::Zero(3);
+  for (int s = 0; s < 20000; ++s) sampled = sampled.cwiseMax(d->worstErrorAt(test::randomPoint(ws.initialBox(), rng)));
+  for (int c = 0; c < 8; ++c) {
+    DVec q(3);
+    for (int i = 0; i < 3; ++i) q[i] = (c >> i) & 1 ? ws.initialBox()[i].upper() : ws.initialBox()[i].lower();
+    sampled = sampled.cwiseMax(d->worstErrorAt(q));
+  }
+  verify::VerifierOptions o;
+  o.mode = verify::Mode::MaxError;
+  o.alpha = 0.01;
+  o.threads = 2;
+  const auto t0 = std::chrono::steady_clock::now();
+  const verify::VerifierResult r = verify::Verifier::run(*d, ws, o);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.converged);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GE(r.max_upper[k], sampled[k]);              // no sampled pose exceeds the certified maximum
+    EXPECT_LE(r.max_upper[k], 1.011 * r.max_lower[k]);  // bracketed to 1 %
+    EXPECT_GE(r.max_lower[k], 0.99 * sampled[k]);       // and the lower bound is as good as the sampler
+    // The lower bound is attained at the reported pose (double evaluation, up to round-off).
+    EXPECT_GE(d->worstErrorAt(domain::centreOf(r.max_argmax_pose[k]))[k], r.max_lower[k] * (1.0 - 1e-9));
+  }
+  std::printf("delta3 reference: sampled maxima %.6g %.6g %.6g, max-error 1%% in %.3f s, %zu boxes\n", sampled[0],
+              sampled[1], sampled[2], seconds, r.stats.boxes);
+  verify::VerifierOptions v;
+  v.threads = 2;
+  v.thresholds = 1.05 * r.max_upper;
+  EXPECT_EQ(verify::Verifier::run(*d, ws, v).verdict, verify::Verdict::Safe);
+  v.thresholds = 0.95 * sampled;
+  EXPECT_EQ(verify::Verifier::run(*d, ws, v).verdict, verify::Verdict::Unsafe);
+}
