@@ -16,7 +16,8 @@
 #      - rosrun pkm_accuracy planner_example.py (the Python example, service and action: executes, exit 0) and
 #        rosrun pkm_accuracy planner_client_example _mode:=trajectory (the C++ example: executes, exit 0);
 #      - a catkin package built against the install space (find_package(catkin COMPONENTS pkm_accuracy)) that
-#        links the three exported libraries (core, io, ros: RobotLoader) and runs.
+#        links the three exported libraries (core, io, ros: RobotLoader) and runs; the installed examples/upu3 (a
+#        user's own robot type) built against it, and pkm_verify --plugin running it.
 # Environment: PKM_WS (workspace, default .catkin_ws of this checkout), PKM_JOBS (jobs of the consumer build, 1).
 set -euo pipefail
 
@@ -141,12 +142,26 @@ EOF
   grep -q "^version ${version##* }, 2 workspaces, base_anchor_3, worst dx at the centre [0-9]" <<<"$out" ||
     fail "the package built against the install space: $out"
   say "a package built against the install space (core, io, ros libraries): $out"
+
+  # The installed example of a user's own robot type, built against the install space and run by pkm_verify.
+  cp -r "$found/examples/upu3" "$SCRATCH/upu3"
+  mkdir "$SCRATCH/upu3/build"
+  cd "$SCRATCH/upu3/build"
+  { cmake .. && make -j"${PKM_JOBS:-1}"; } >"$SCRATCH/upu3_build.log" 2>&1 ||
+    fail "the installed example examples/upu3 does not build: $(tail -30 "$SCRATCH/upu3_build.log")"
+  rosrun pkm_accuracy pkm_verify --plugin "$SCRATCH/upu3/build/libupu3_plugin.so" --robot "$SCRATCH/upu3/upu3.yaml" \
+    --mode max-error --quiet >"$SCRATCH/upu3.out" 2>&1 || fail "pkm_verify --plugin libupu3_plugin.so: $(cat "$SCRATCH/upu3.out")"
+  say "the installed examples/upu3 built against the install space and run by pkm_verify --plugin: exit status 0"
   exit 0
 fi
 
 # ---- stages 1 and 2 ----
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
-ROOT="$PKM_ROOT"
+ROOT="$(readlink -f "$PKM_ROOT")"
+WS="$(readlink -f "$PKM_WS")"
+# What is hidden in stage 3: the checkout, and the workspace (build and devel spaces) if it lies elsewhere.
+HIDE=("$ROOT")
+case "$WS/" in "$ROOT"/*) ;; *) HIDE+=("$WS") ;; esac
 BUILD="$PKM_WS/build"
 [ -f "$BUILD/cmake_install.cmake" ] || {
   echo "install_space: no build in $BUILD (run scripts/build first)" >&2
@@ -171,7 +186,8 @@ for f in lib/pkm_accuracy/accuracy_checker lib/pkm_accuracy/planner_client_examp
   lib/pkm_accuracy/planner_example.py lib/libpkm_accuracy_core.so lib/libpkm_accuracy_io.so \
   lib/libpkm_accuracy_ros.so include/pkm_accuracy/ros/RobotLoader.hpp include/pkm_accuracy/VerifyWorkspace.h \
   share/pkm_accuracy/package.xml share/pkm_accuracy/launch/accuracy_checker.launch share/pkm_accuracy/config/ref6.yaml \
-  share/pkm_accuracy/urdf/ref6.urdf share/pkm_accuracy/rviz/pkm_accuracy.rviz setup.bash; do
+  share/pkm_accuracy/urdf/ref6.urdf share/pkm_accuracy/rviz/pkm_accuracy.rviz share/pkm_accuracy/examples/upu3/upu3.yaml \
+  setup.bash; do
   [ -e "$STAGED/$f" ] || {
     echo "install_space: FAILED: $f is not installed" >&2
     exit 1
@@ -180,7 +196,7 @@ done
 # Every mention of the checkout must be the prefix itself (catkin's generated files name it). Not counted: the
 # bytecode of the generated Python messages (genmsg's install step byte-compiles them in the devel space and installs
 # the caches, which record the devel file names for tracebacks; the modules load from the installed sources).
-hits="$(/usr/bin/python3 - "$STAGED" "$PREFIX" "$ROOT" "$(readlink -f "$ROOT")" <<'PY'
+hits="$(/usr/bin/python3 - "$STAGED" "$PREFIX" "$ROOT" "$PKM_ROOT" "$WS" "$PKM_WS" <<'PY'
 import os, sys
 staged, prefix, roots = sys.argv[1], sys.argv[2].encode(), {r.encode() for r in sys.argv[3:]}
 for d, _, files in os.walk(staged):
@@ -194,11 +210,12 @@ for d, _, files in os.walk(staged):
 PY
 )"
 if [ -n "$hits" ]; then
-  echo "install_space: FAILED: installed files name the checkout $ROOT (other than the prefix $PREFIX):" >&2
+  echo "install_space: FAILED: installed files name the checkout $ROOT or the workspace $WS (other than the" \
+    "prefix $PREFIX):" >&2
   sed "s|^|  |" <<<"$hits" >&2
   exit 1
 fi
-echo "install_space: no installed file names the checkout (other than the prefix)"
+echo "install_space: no installed file names the checkout or the workspace (other than the prefix)"
 
 cp "${BASH_SOURCE[0]}" "$SCRATCH/check.sh"
 cd "$SCRATCH"
@@ -206,10 +223,12 @@ clean=(env -i HOME="$SCRATCH" PATH=/usr/bin:/bin PKM_JOBS="${PKM_JOBS:-1}" bash 
   --inside)
 unshare_args=(--mount)
 [ "$(id -u)" = 0 ] || unshare_args+=(--map-root-user)
-# In the namespace: an empty directory over the checkout, then the staged install at its prefix.
-mounts="mount -t tmpfs -o size=1m pkm_hidden '$ROOT' && mkdir -p '$PREFIX' && mount --bind '$STAGED' '$PREFIX'"
+# In the namespace: an empty directory over the checkout (and the workspace), then the staged install at its prefix.
+mounts=""
+for d in "${HIDE[@]}"; do mounts+="mount -t tmpfs -o size=1m pkm_hidden '$d' && "; done
+mounts+="mkdir -p '$PREFIX' && mount --bind '$STAGED' '$PREFIX'"
 if unshare "${unshare_args[@]}" sh -c "$mounts" 2>/dev/null; then
-  echo "install_space: running with the checkout $ROOT hidden and the install space at its prefix (private mount" \
+  echo "install_space: running with ${HIDE[*]} hidden and the install space at its prefix (private mount" \
     "namespace)"
   unshare "${unshare_args[@]}" sh -c "$mounts && exec \"\$@\"" sh "${clean[@]}" "$PREFIX" "$SCRATCH" yes
 else

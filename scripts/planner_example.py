@@ -12,8 +12,8 @@ The planner plans a timed motion of the platform and:
      tolerance, for the planner's log.
 A "busy" answer (the node runs ~max_parallel_jobs jobs already) is retried until ~timeout.
 
-Parameters (private; on the command line as _name:=value, lists as _tolerances:="[1e-4, 1e-4, 1e-4, 1e-3, 1e-3,
-1e-3]"):
+Parameters (private; on the command line as _name:=value, lists as _tolerances:="[1.0e-4, 1.0e-4, 1.0e-4, 1.0e-3,
+1.0e-3, 1.0e-3]"; numbers written as strings, such as YAML 1.1's 1e-4, are read as numbers):
   ~tolerances      [dx, dy, dz (m), drx, dry, drz (rad)]; default [1e-3, 1e-3, 1e-3, 1e-2, 1e-2, 1e-2]
   ~waypoints       flat list, 7 numbers per waypoint: t (s, from now), x, y, z (m, ~frame_id), roll, pitch, yaw (rad),
                    R = Rz(yaw) Ry(pitch) Rx(roll); default 3 waypoints over 3 s inside a 2 cm box around [0, 0, 0.475]
@@ -56,14 +56,25 @@ class ParameterError(Exception):
     pass
 
 
+def as_number(v):
+    """A number, or a string that is one (YAML 1.1 reads 1e-6 as a string), as a float; None otherwise."""
+    if isinstance(v, bool):
+        return None
+    if isinstance(v, (int, float)):
+        return float(v)
+    try:
+        return float(v) if isinstance(v, str) else None
+    except ValueError:
+        return None
+
+
 def numbers(name, default, count=None, per=None):
     """A private parameter that is a list of numbers (count of them, or a multiple of per)."""
     value = rospy.get_param("~" + name, default)
     full = rospy.resolve_name("~" + name)
-    if not isinstance(value, list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                              for v in value):
+    if not isinstance(value, list) or any(as_number(v) is None for v in value):
         raise ParameterError("%s: expected a list of numbers, got %r" % (full, value))
-    value = [float(v) for v in value]
+    value = [as_number(v) for v in value]
     if not all(math.isfinite(v) for v in value):
         raise ParameterError("%s: expected finite numbers, got %r" % (full, value))
     if count is not None and len(value) != count:
@@ -76,9 +87,11 @@ def numbers(name, default, count=None, per=None):
 
 def number(name, default, minimum=0.0):
     value = rospy.get_param("~" + name, default)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > minimum:
-        raise ParameterError("%s: expected a number > %g, got %r" % (rospy.resolve_name("~" + name), minimum, value))
-    return float(value)
+    x = as_number(value)
+    if x is None or not x > minimum or not math.isfinite(x):
+        raise ParameterError("%s: expected a finite number > %g, got %r" % (rospy.resolve_name("~" + name), minimum,
+                                                                            value))
+    return x
 
 
 def quaternion(roll, pitch, yaw):

@@ -20,7 +20,7 @@ import rostest
 from std_msgs.msg import String
 
 PKG = "pkm_accuracy"
-TINY = "[1.0e-6, 1.0e-6, 1.0e-6, 1.0e-6, 1.0e-6, 1.0e-6]"
+TINY = "[1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6]"  # (YAML 1.1 strings: the example reads them as numbers)
 
 
 def example():
@@ -77,6 +77,9 @@ class PlannerExample(unittest.TestCase):
         status, out = run("planner_bad", "_tolerances:=[1.0e-3, 1.0e-3]")
         self.assertEqual(status, 2, out)
         self.assertIn("invalid parameter: /planner_bad/tolerances: expected 6 numbers, got 2", out)
+        status, out = run("planner_bad_word", "_tolerances:=[1.0e-3, 1.0e-3, 1.0e-3, 1.0e-2, 1.0e-2, tight]")
+        self.assertEqual(status, 2, out)
+        self.assertIn("invalid parameter: /planner_bad_word/tolerances: expected a list of numbers", out)
 
     def test_decision_is_published_latched(self):
         got = []
