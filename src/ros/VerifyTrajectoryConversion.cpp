@@ -151,7 +151,7 @@ bool quaternionInterpolation(const VerifyTrajectory::Request& req, const char* f
 }
 
 /// One waypoint of a planner's message: its time (s, finite, after the previous one) and its pose (position finite,
-/// quaternion as fields::poseFromMsg).
+/// quaternion as fields::poseFromParts).
 bool addWaypoint(double t, const Eigen::Vector3d& position, const geometry_msgs::Quaternion& q, const std::string& at,
                  const std::string& time_field, const std::string& position_field, const std::string& orientation_field,
                  TrajectorySpec& spec, std::string& error) {
@@ -276,7 +276,8 @@ bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_f
   }
   if (!read) return false;
   // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
-  q.frame_id = fields::frameName(frame) == fields::frameName(base_frame) ? "" : frame;
+  const std::string name = fields::frameName(frame);
+  q.frame_id = name == fields::frameName(base_frame) ? "" : name;
   if (!fields::sharedOptions(req, defaults, q, error)) return false;
   // min_width is a duration (s) here; the node's ~default_min_width (m / rad, for workspaces) does not apply.
   if (!option(req.min_width, 0.0, "min_width", "a finite number >= 0 (s, 0 = the verifier's choice)", q.min_width,
