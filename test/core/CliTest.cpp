@@ -27,6 +27,7 @@
 
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
+#include "pkm_accuracy/io/ModelFile.hpp"
 #include "pkm_accuracy/io/ResultWriter.hpp"
 #include "pkm_accuracy/io/RobotFile.hpp"
 
@@ -1339,3 +1340,80 @@ TEST(CliResultWriter, NumbersRoundTripAndNeverPrintInfOrNan) {
 }
 
 }  // namespace
+
+// ---- robots of other types and single poses ------------------------------------------------------------------------
+TEST_F(CliTest, Delta3RobotThroughTheGenericPath) {
+  const std::string robot = kSource + "/config/delta3.yaml";
+  const Json j = runJson({"--robot", robot, "--mode", "max-error", "--threads", "2"}, 0);
+  EXPECT_EQ(j["robot_type"].str(), "delta3");
+  const auto lower = j["max_error"]["lower"].numbers(), upper = j["max_error"]["upper"].numbers();
+  ASSERT_EQ(upper.size(), 3u);
+  pkm_accuracy::io::ModelFile file = pkm_accuracy::io::loadModelFile(robot);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LE(upper[k] - lower[k], 0.01 * lower[k] * (1.0 + 1e-9));
+    DVec pose(3);
+    const auto argmax = j["max_error"]["argmax"][k].numbers();
+    ASSERT_EQ(argmax.size(), 3u);
+    for (int i = 0; i < 3; ++i) pose[i] = argmax[i];
+    EXPECT_GE(file.model->worstErrorAt(pose)[k], lower[k] * (1.0 - 1e-9));
+  }
+  // Thresholds per error component of the robot (three here): 5% above the maxima is SAFE, 5% below is UNSAFE.
+  auto scaled = [](const std::vector<double>& v, double f) {
+    char text[128];
+    std::snprintf(text, sizeof text, "%.17g,%.17g,%.17g", f * v[0], f * v[1], f * v[2]);
+    return std::string(text);
+  };
+  const std::string above = scaled(upper, 1.05), below = scaled(lower, 0.95);
+  EXPECT_EQ(run({"--robot", robot, "--thresholds", above}).code, 0);
+  EXPECT_EQ(run({"--robot", robot, "--thresholds", below}).code, 1);
+  const RunResult bad = run({"--robot", robot, "--thresholds", "1e-5,1e-5,1e-5,1e-3,1e-3,1e-3"});
+  EXPECT_EQ(bad.code, 3);
+  EXPECT_NE(bad.err.find("--thresholds: expected 3 comma-separated values (dx,dy,dz)"), std::string::npos) << bad.err;
+}
+
+TEST_F(CliTest, AtPrintsJointsJinvAndWorstErrorsOfOnePose) {
+  const RunResult r = run({"--robot", kSource + "/config/delta3.yaml", "--at", "0.05,-0.02,-0.4"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  pkm_accuracy::io::ModelFile file = pkm_accuracy::io::loadModelFile(kSource + "/config/delta3.yaml");
+  DVec q(3);
+  q << 0.05, -0.02, -0.4;
+  const DVec joints = file.model->legLengths(q), worst = file.model->worstErrorAt(q);
+  char text[64];
+  std::snprintf(text, sizeof text, "% .9e", joints[1]);
+  EXPECT_NE(r.out.find(std::string("crank_1 [rad]  ") + text), std::string::npos) << r.out;
+  std::snprintf(text, sizeof text, "% .9e", worst[2]);
+  EXPECT_NE(r.out.find(text), std::string::npos) << r.out;
+  // The Gough platform too; an unreachable pose is reported, not certified.
+  EXPECT_EQ(run({"--robot", kRef6, "--at", "0,0,0.5,0.1,0,0"}).code, 0);
+  const RunResult far = run({"--robot", kSource + "/config/delta3.yaml", "--at", "0,0,-2"});
+  EXPECT_EQ(far.code, 2) << far.out;
+  EXPECT_NE(far.out.find("unbounded"), std::string::npos) << far.out;
+  const RunResult wrong = run({"--robot", kRef6, "--at", "0,0,0.5"});
+  EXPECT_EQ(wrong.code, 3);
+  EXPECT_NE(wrong.err.find("--at: expected 6 comma-separated values"), std::string::npos) << wrong.err;
+}
+
+TEST_F(CliTest, PluginRobotTypeIsLoadedAndVerified) {
+  const std::string robot = kSource + "/examples/upu3/upu3.yaml";
+  const RunResult without = run({"--robot", robot, "--mode", "max-error"});
+  EXPECT_EQ(without.code, 3);
+  EXPECT_NE(without.err.find("unknown robot type 'upu3'"), std::string::npos) << without.err;
+  const RunResult types = run({"--plugin", PKM_EXAMPLE_PLUGIN, "--list-types"});
+  EXPECT_EQ(types.code, 0);
+  EXPECT_NE(types.out.find("upu3: translational 3-UPU"), std::string::npos) << types.out;
+  const Json j = runJson({"--plugin", PKM_EXAMPLE_PLUGIN, "--robot", robot, "--mode", "max-error"}, 0);
+  EXPECT_EQ(j["robot_type"].str(), "upu3");
+  EXPECT_TRUE(j["max_error"]["converged"].boolean);
+  const RunResult notPlugin = run({"--plugin", kRef6, "--list-types"});
+  EXPECT_EQ(notPlugin.code, 3);
+  EXPECT_NE(notPlugin.err.find("--plugin"), std::string::npos) << notPlugin.err;
+}
+
+TEST_F(CliTest, TrajectoriesOfOtherTypesAreRefusedByName) {
+  const RunResult r =
+      run({"--robot", kSource + "/config/delta3.yaml", "--trajectory", kSource + "/config/trajectory_example.yaml"});
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.err.find("--trajectory: trajectories and motion varieties are verified for gough robots"),
+            std::string::npos)
+      << r.err;
+}

@@ -13,7 +13,7 @@
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/PlanarWorkspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
-#include "pkm_accuracy/core/model/Planar3RPR.hpp"
+#include "pkm_accuracy/core/model/robots/Planar3RPRKinematics.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 #include "pkm_accuracy/io/PlanarRobotFile.hpp"
 
@@ -84,12 +84,13 @@ std::string writeTemp(const std::string& name, const std::string& text) {
 // ---- model ---------------------------------------------------------------------------------------------------------
 
 TEST(Planar3RPR, InterfaceDescribesThreeComponents) {
-  const model::Planar3RPR robot(planarFile().geometry);
+  const auto robotPtr = model::makePlanar3RPR(planarFile().geometry);
+  const auto& robot = *robotPtr;
   EXPECT_EQ(robot.dof(), 3);
   EXPECT_EQ(robot.name(), "planar3rpr");
-  EXPECT_EQ(robot.componentName(0), "x [m]");
-  EXPECT_EQ(robot.componentName(1), "y [m]");
-  EXPECT_EQ(robot.componentName(2), "theta [rad]");
+  EXPECT_EQ(robot.componentName(0), "dx [m]");
+  EXPECT_EQ(robot.componentName(1), "dy [m]");
+  EXPECT_EQ(robot.componentName(2), "dtheta [rad]");
   EXPECT_EQ(robot.componentName(3), "?");
   EXPECT_FALSE(robot.isAngular(0));
   EXPECT_FALSE(robot.isAngular(1));
@@ -102,7 +103,8 @@ TEST(Planar3RPR, InverseJacobianMatchesFiniteDifferencesOfLegLengths) {
   for (const bool withTool : {false, true}) {
     io::PlanarRobotFile rf = planarFile();
     if (withTool) rf.geometry.tool_point = Eigen::Vector2d(0.02, -0.03);
-    const model::Planar3RPR robot(rf.geometry);
+    const auto robotPtr = model::makePlanar3RPR(rf.geometry);
+    const auto& robot = *robotPtr;
     std::mt19937_64 rng(7);
     const IVec box = rf.workspaces.at("reference").initialBox();
     for (int trial = 0; trial < 500; ++trial) {
@@ -122,7 +124,7 @@ TEST(Planar3RPR, InverseJacobianMatchesFiniteDifferencesOfLegLengths) {
       for (int i = 0; i < 3; ++i) EXPECT_NEAR(m(i, 2), dr[i], 1e-8) << "leg " << i << " rotation";
       // Leg lengths agree with the independent formula, and their enclosures contain them.
       const DVec l = robot.legLengths(q);
-      const IVec li = robot.legLengths(thinBox(q));
+      const IVec li = robot.jointCoordinates(thinBox(q));
       const Eigen::Vector3d ref = lengths(rf.geometry, t, q[2]);
       for (int i = 0; i < 3; ++i) {
         EXPECT_NEAR(l[i], ref[i], 1e-14);
@@ -134,7 +136,8 @@ TEST(Planar3RPR, InverseJacobianMatchesFiniteDifferencesOfLegLengths) {
 
 TEST(Planar3RPR, JacobianTimesInverseIsIdentity) {
   const io::PlanarRobotFile rf = planarFile();
-  const model::Planar3RPR robot(rf.geometry);
+  const auto robotPtr = model::makePlanar3RPR(rf.geometry);
+  const auto& robot = *robotPtr;
   std::mt19937_64 rng(11);
   const IVec box = rf.workspaces.at("reference").initialBox();
   for (int trial = 0; trial < 500; ++trial) {
@@ -146,7 +149,8 @@ TEST(Planar3RPR, JacobianTimesInverseIsIdentity) {
 }
 
 TEST(Planar3RPR, SingularPoseIsReportedNotNaN) {
-  const model::Planar3RPR robot(concurrentLegsGeometry());
+  const auto robotPtr = model::makePlanar3RPR(concurrentLegsGeometry());
+  const auto& robot = *robotPtr;
   const DVec q = pose3(0.0, 0.0, 0.0);
   // The three legs meet at the origin: no moment about it, the theta column of J^-1 vanishes.
   const DMat m = robot.inverseJacobian(q);
@@ -188,7 +192,8 @@ TEST(Planar3RPR, IntervalEnclosuresContainPointValuesAndDerivatives) {
   const io::PlanarRobotFile rf = planarFile();
   model::Planar3RPRGeometry g = rf.geometry;
   g.tool_point = Eigen::Vector2d(0.01, 0.02);
-  const model::Planar3RPR robot(g);
+  const auto robotPtr = model::makePlanar3RPR(g);
+  const auto& robot = *robotPtr;
   std::mt19937_64 rng(3);
   const IVec ws = rf.workspaces.at("reference").initialBox();
   std::uniform_real_distribution<double> frac(0.0, 0.3);
@@ -249,7 +254,7 @@ TEST(Planar3RPR, RejectsInvalidGeometry) {
   const model::Planar3RPRGeometry ok = planarFile().geometry;
   auto expectThrowNaming = [](const model::Planar3RPRGeometry& g, const std::string& field) {
     try {
-      model::Planar3RPR robot(g);
+      model::makePlanar3RPR(g);
       FAIL() << "expected InvalidGeometry naming " << field;
     } catch (const InvalidGeometry& e) {
       EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
@@ -357,7 +362,8 @@ TEST(PlanarEnclosure, EveryMethodIsSoundOnRandomBoxes) {
   model::Planar3RPRGeometry g = rf.geometry;
   g.tool_point = Eigen::Vector2d(0.01, -0.02);
   g.sensor_error = {1e-5, 2e-5, 1.5e-5};
-  const model::Planar3RPR robot(g);
+  const auto robotPtr = model::makePlanar3RPR(g);
+  const auto& robot = *robotPtr;
   const domain::PlanarWorkspace& ws = rf.workspaces.at("reference");
   const IVec& full = ws.initialBox();
   for (const std::string& name : enclosure::enclosureNames()) {
@@ -406,7 +412,8 @@ TEST(PlanarEnclosure, EveryMethodIsSoundOnRandomBoxes) {
 
 TEST(PlanarVerifier, SafeTenPercentAboveSampledMaximaUnsafeFivePercentBelow) {
   const io::PlanarRobotFile rf = planarFile();
-  const model::Planar3RPR robot(rf.geometry);
+  const auto robotPtr = model::makePlanar3RPR(rf.geometry);
+  const auto& robot = *robotPtr;
   const domain::PlanarWorkspace& ws = rf.workspaces.at("reference");
   const DVec maxima = sampledMaxima(robot, ws, 20000, 1);
   verify::VerifierOptions o;
@@ -434,7 +441,8 @@ TEST(PlanarVerifier, SafeTenPercentAboveSampledMaximaUnsafeFivePercentBelow) {
 TEST(PlanarVerifier, SingularWorkspaceIsUnsafeForAnyThreshold) {
   // The legs of this geometry meet at the origin at theta = 0: a singular pose inside the workspace, certified
   // through a sign change of det J^-1 (checked here in double at the two ends) whatever the thresholds.
-  const model::Planar3RPR robot(concurrentLegsGeometry());
+  const auto robotPtr = model::makePlanar3RPR(concurrentLegsGeometry());
+  const auto& robot = *robotPtr;
   const domain::PlanarWorkspace ws =
       domain::PlanarWorkspace::fromRanges({Interval(-0.01, 0.01), Interval(-0.01, 0.01), Interval(-0.02, 0.02)});
   verify::VerifierOptions o;
@@ -457,7 +465,8 @@ TEST(PlanarVerifier, SingularWorkspaceIsUnsafeForAnyThreshold) {
 
 TEST(PlanarVerifier, MaxErrorBracketsSampledMaxima) {
   const io::PlanarRobotFile rf = planarFile();
-  const model::Planar3RPR robot(rf.geometry);
+  const auto robotPtr = model::makePlanar3RPR(rf.geometry);
+  const auto& robot = *robotPtr;
   for (const std::string wsName : {"reference", "disc"}) {
     const domain::PlanarWorkspace& ws = rf.workspaces.at(wsName);
     const DVec maxima = sampledMaxima(robot, ws, 20000, 2);

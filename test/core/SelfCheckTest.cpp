@@ -15,7 +15,7 @@
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
-#include "pkm_accuracy/core/model/Planar3RPR.hpp"
+#include "pkm_accuracy/core/model/robots/Planar3RPRKinematics.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 #include "pkm_accuracy/io/PlanarRobotFile.hpp"
 #include "pkm_accuracy/io/TrajectoryFile.hpp"
@@ -177,7 +177,8 @@ TEST(SelfCheck, PassesOnTheReferenceProblems) {
   expectPasses(model::GoughPlatform(tiny.geometry), tiny.workspaces.begin()->second, maxError(0.01, 0), "tiny");
 
   const io::PlanarRobotFile planar = io::loadPlanarRobotFile(test::configPath("planar3rpr.yaml"));
-  const model::Planar3RPR planarRobot(planar.geometry);
+  const auto planarRobotPtr = model::makePlanar3RPR(planar.geometry);
+  const auto& planarRobot = *planarRobotPtr;
   for (const auto& ws : planar.workspaces) expectPasses(planarRobot, ws.second, maxError(0.02, 2000), ws.first);
 
   const io::TrajectoryFile trajectory = io::loadTrajectoryFile(test::configPath("trajectory_example.yaml"));

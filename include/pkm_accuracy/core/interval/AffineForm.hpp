@@ -184,6 +184,12 @@ template <int N>
 AffineForm<N> reciprocal(const AffineForm<N>& x) {
   return taylorReciprocal(x);
 }
+/// x / y as x * (1 / y) (non-finite where the range of y reaches 0, or where x or y is not finite).
+template <int N>
+AffineForm<N> operator/(const AffineForm<N>& x, const AffineForm<N>& y) {
+  if (!x.finite() || !y.finite()) return AffineForm<N>(std::nan(""));
+  return x * reciprocal(y);
+}
 template <int N>
 AffineForm<N> sin(const AffineForm<N>& x) {
   return taylorSin(x);

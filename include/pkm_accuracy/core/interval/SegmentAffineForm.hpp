@@ -177,6 +177,12 @@ template <int N>
 SegmentAffineForm<N> reciprocal(const SegmentAffineForm<N>& x) {
   return taylorReciprocal(x);
 }
+/// x / y as x * (1 / y) (non-finite where the range of y reaches 0, or where x or y is not finite).
+template <int N>
+SegmentAffineForm<N> operator/(const SegmentAffineForm<N>& x, const SegmentAffineForm<N>& y) {
+  if (!x.finite() || !y.finite()) return SegmentAffineForm<N>(std::nan(""));
+  return x * reciprocal(y);
+}
 template <int N>
 SegmentAffineForm<N> sin(const SegmentAffineForm<N>& x) {
   return taylorSin(x);

@@ -5,6 +5,9 @@
 //   Interval                           J^-1 over a pose box, every admissible geometry
 //   Dual<Interval, kMaxDof>            J^-1 and its gradient along a domain's variables (trajectories, varieties)
 //   Dual<Dual<Interval, D>, D>         first and second derivatives in the pose (the second-order enclosures)
+//   Dual<Dual<AffineForm, D>, D>       the second derivatives as affine forms in the pose over a box, so that their
+//                                      products with a preconditioner keep their cancellations (SegmentAffineForm
+//                                      when the remainder is split by its scaling towards the box centre)
 //   Dual<Interval, 1>                  derivatives in one geometry parameter (geometry uncertainty as parameters)
 //   DependencyMask                     which rows of J^-1 each geometry value enters (exact, structural)
 // and bisects or fixes geometry parameters by restricting their ranges. The derivation: docs/models.md.
@@ -99,7 +102,7 @@ class KinematicModel final : public RobotModel {
   int dof() const override { return D; }
   std::string name() const override { return d_.type; }
   std::string componentName(int k) const override {
-    return (k >= 0 && k < D) ? d_.pose[k].name + " [" + d_.pose[k].unit + "]" : "?";
+    return (k >= 0 && k < D) ? d_.pose[k].errorName() + " [" + d_.pose[k].unit + "]" : "?";
   }
   std::string jointName(int j) const override {
     return (j >= 0 && j < D) ? d_.joints[j].name + " [" + d_.joints[j].unit + "]" : "?";
@@ -129,6 +132,19 @@ class KinematicModel final : public RobotModel {
     dualJinv(pose, g_.centres(), out);
   }
   bool inverseJacobianHessianAtGeometryCentre(const IVec& pose, MatrixHessian& out, bool second) const override;
+  bool preconditionedHessianMagnitude(const IVec& pose, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
+                                      std::array<DMat, MatrixHessian::kPairs>* linear = nullptr,
+                                      std::array<DMat, MatrixHessian::kPairs>* quadratic = nullptr,
+                                      std::array<DMat, MatrixHessian::kPairs>* rest = nullptr,
+                                      std::array<DMat, MatrixHessian::kPairs>* centre = nullptr) const override {
+    if (pose.size() != D || c.rows() != D || c.cols() != D) return false;
+    if (quadratic != nullptr && linear == nullptr) return false;
+    if (quadratic != nullptr) {
+      return affineHessianMagnitude<interval::SegmentAffineForm<kMaxDof>>(pose, c, out, linear, quadratic, rest,
+                                                                          centre);
+    }
+    return affineHessianMagnitude<interval::AffineForm<kMaxDof>>(pose, c, out, linear, nullptr, rest, centre);
+  }
 
   int geometryParameterCount() const override { return g_.parameterCount(); }
   std::string geometryParameterName(int p) const override {
@@ -193,6 +209,13 @@ class KinematicModel final : public RobotModel {
     return toMatrix<Interval, IMat>(jinv);
   }
   void dualJinv(const DualPose& pose, const std::vector<Interval>& geometry, MatrixWithGradient& out) const;
+  /// preconditionedHessianMagnitude() with the second derivatives in the affine form type S.
+  template <typename S>
+  bool affineHessianMagnitude(const IVec& pose, const DMat& c, std::array<DMat, MatrixHessian::kPairs>& out,
+                              std::array<DMat, MatrixHessian::kPairs>* linear,
+                              std::array<DMat, MatrixHessian::kPairs>* quadratic,
+                              std::array<DMat, MatrixHessian::kPairs>* rest,
+                              std::array<DMat, MatrixHessian::kPairs>* centreOut) const;
 
   K k_;
   RobotDescription d_;
@@ -262,6 +285,89 @@ bool KinematicModel<K>::inverseJacobianHessianAtGeometryCentre(const IVec& pose,
     }
   }
   return finite;
+}
+
+namespace detail {
+template <int M>
+double remainderParts(const interval::SegmentAffineForm<M>& f, double& r2) {
+  r2 = f.quadraticRadius();
+  return f.constantRadius();
+}
+template <int M>
+double remainderParts(const interval::AffineForm<M>& f, double& r2) {
+  r2 = 0.0;
+  return f.radius();
+}
+}  // namespace detail
+
+// The second derivatives in affine arithmetic, one symbol per pose coordinate: H_il(t) in Hc + sum_m A_m tau_m +- R
+// entry by entry, so C H_il(t) in C Hc + sum_m (C A_m) tau_m +- |C| R, and |C H_il(t)| <= |C Hc| + sum_m |C A_m| +
+// |C| R, plus the rounding of the products with C (sums of at most D <= 6 products: below 1e-13 of |C| times the
+// magnitudes); with `linear` the middle term apart; with `quadratic` (SegmentAffineForm) R splits into R0 + s^2 R2
+// (RobotModel::preconditionedHessianMagnitude).
+template <typename K>
+template <typename S>
+bool KinematicModel<K>::affineHessianMagnitude(const IVec& pose, const DMat& c,
+                                               std::array<DMat, MatrixHessian::kPairs>& out,
+                                               std::array<DMat, MatrixHessian::kPairs>* linear,
+                                               std::array<DMat, MatrixHessian::kPairs>* quadratic,
+                                               std::array<DMat, MatrixHessian::kPairs>* rest,
+                                               std::array<DMat, MatrixHessian::kPairs>* centreOut) const {
+  using First = interval::Dual<S, D>;
+  using Second = interval::Dual<First, D>;
+  Second q[D], jinv[D * D];
+  for (int a = 0; a < D; ++a) q[a] = Second::variable(First::variable(S::variable(pose[a], a), a), a);
+  std::vector<Second> g;
+  g.reserve(g_.centres().size());
+  for (const Interval& v : g_.centres()) g.emplace_back(First(S(v.lower())));
+  k_.inverseJacobian(q, g.data(), jinv);
+  const DMat absC = c.cwiseAbs();
+  for (int a = 0; a < kMaxDof; ++a) {
+    for (int b = a; b < kMaxDof; ++b) {
+      const int p = MatrixHessian::index(a, b);
+      if (a >= D || b >= D) {  // pose coordinates the model does not have
+        out[p] = DMat::Zero(D, D);
+        if (linear != nullptr) (*linear)[p] = DMat::Zero(D, D);
+        if (quadratic != nullptr) (*quadratic)[p] = DMat::Zero(D, D);
+        if (rest != nullptr) (*rest)[p] = DMat::Zero(D, D);
+        if (centreOut != nullptr) (*centreOut)[p] = DMat::Zero(D, D);
+        continue;
+      }
+      DMat centre(D, D), radius(D, D), quad = DMat::Zero(D, D), slopes = DMat::Zero(D, D), coeff(D, D);
+      for (int i = 0; i < D; ++i) {
+        for (int j = 0; j < D; ++j) {
+          const S& f = jinv[i * D + j].d(a).d(b);
+          if (!f.finite()) return false;
+          centre(i, j) = f.centre();
+          radius(i, j) = quadratic != nullptr ? detail::remainderParts(f, quad(i, j)) : f.radius();
+        }
+      }
+      DMat absSum = centre.cwiseAbs();
+      for (int m = 0; m < D; ++m) {
+        for (int i = 0; i < D; ++i)
+          for (int j = 0; j < D; ++j) coeff(i, j) = jinv[i * D + j].d(a).d(b).coefficient(m);
+        slopes += (c * coeff).cwiseAbs();
+        absSum += coeff.cwiseAbs();
+      }
+      const DMat scale = absC * absSum;  // the magnitudes of the products' terms
+      DMat mag = (c * centre).cwiseAbs() + absC * radius;
+      if (linear != nullptr) {
+        (*linear)[p] = interval::rounding::upEach(DMat(slopes + 1e-13 * scale));
+        if (!(*linear)[p].allFinite()) return false;
+      } else {
+        mag += slopes;
+      }
+      if (quadratic != nullptr) {
+        (*quadratic)[p] = interval::rounding::upEach(DMat(absC * quad));
+        if (!(*quadratic)[p].allFinite()) return false;
+      }
+      if (rest != nullptr) (*rest)[p] = interval::rounding::upEach(DMat(absC * radius + 1e-13 * scale));
+      if (centreOut != nullptr) (*centreOut)[p] = c * centre;
+      out[p] = interval::rounding::upEach(DMat(mag + 1e-13 * scale));
+      if (!out[p].allFinite()) return false;
+    }
+  }
+  return true;
 }
 
 template <typename K>

@@ -1,6 +1,7 @@
 // The elementary functions a robot model's templated kinematics calls (KinematicModel.hpp), for every scalar type the
 // core instantiates it with: double (point evaluation, not certified), Interval (enclosures over boxes) and
-// Dual<T, N> nested to any depth (enclosures of first and second derivatives), and DependencyMask.
+// Dual<T, N> nested to any depth (enclosures of first and second derivatives), the first-order affine forms
+// AffineForm / SegmentAffineForm (affine forms of the second derivatives over a box) and DependencyMask.
 //
 // Models call them qualified, `kin::sqrt(x)`, never `std::sqrt` or an unqualified `sqrt`: these versions are
 // domain-checked. Where the argument of sqrt may be negative somewhere in a box (a pose the mechanism cannot reach,
@@ -12,10 +13,12 @@
 #include <array>
 #include <cmath>
 
+#include "pkm_accuracy/core/interval/AffineForm.hpp"
 #include "pkm_accuracy/core/interval/Dual.hpp"
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/Interval.hpp"
 #include "pkm_accuracy/core/interval/InverseTrig.hpp"
+#include "pkm_accuracy/core/interval/SegmentAffineForm.hpp"
 #include "pkm_accuracy/core/model/DependencyMask.hpp"
 
 namespace pkm_accuracy {
@@ -43,6 +46,44 @@ inline Interval sin(const Interval& x) { return interval::sin(x); }
 inline Interval cos(const Interval& x) { return interval::cos(x); }
 /// atan2 over the box y x x (principal value; [-pi, pi] where the box meets the branch cut or the origin).
 inline Interval atan2(const Interval& y, const Interval& x) { return interval::atan2(y, x); }
+
+// ---- first-order affine forms over a box (AffineForm.hpp, SegmentAffineForm.hpp) ---------------------------------
+// A result that cannot be bounded (sqrt of a range reaching 0 or below, a division by a range containing 0) is not
+// finite: the caller checks finite() and falls back to intervals.
+template <int M>
+interval::AffineForm<M> sqr(const interval::AffineForm<M>& x) {
+  return x * x;
+}
+template <int M>
+interval::AffineForm<M> sqrt(const interval::AffineForm<M>& x) {
+  if (!x.finite() || !(x.toInterval().lower() > 0.0)) return interval::AffineForm<M>(std::nan(""));
+  return interval::sqrt(x);
+}
+template <int M>
+interval::AffineForm<M> sin(const interval::AffineForm<M>& x) {
+  return x.finite() ? interval::sin(x) : interval::AffineForm<M>(std::nan(""));
+}
+template <int M>
+interval::AffineForm<M> cos(const interval::AffineForm<M>& x) {
+  return x.finite() ? interval::cos(x) : interval::AffineForm<M>(std::nan(""));
+}
+template <int M>
+interval::SegmentAffineForm<M> sqr(const interval::SegmentAffineForm<M>& x) {
+  return x * x;
+}
+template <int M>
+interval::SegmentAffineForm<M> sqrt(const interval::SegmentAffineForm<M>& x) {
+  if (!x.finite() || !(x.toInterval().lower() > 0.0)) return interval::SegmentAffineForm<M>(std::nan(""));
+  return interval::sqrt(x);
+}
+template <int M>
+interval::SegmentAffineForm<M> sin(const interval::SegmentAffineForm<M>& x) {
+  return x.finite() ? interval::sin(x) : interval::SegmentAffineForm<M>(std::nan(""));
+}
+template <int M>
+interval::SegmentAffineForm<M> cos(const interval::SegmentAffineForm<M>& x) {
+  return x.finite() ? interval::cos(x) : interval::SegmentAffineForm<M>(std::nan(""));
+}
 
 // ---- Dual<T, N> (forward-mode derivatives; T may itself be a Dual) ----------------------------------------------
 template <typename T, int N>

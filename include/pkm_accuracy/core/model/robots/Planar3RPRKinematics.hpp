@@ -4,7 +4,11 @@
 // Geometry values: base_anchors[i].{x,y}, platform_anchors[i].{x,y}, tool_point.{x,y} (m).
 #pragma once
 
+#include <memory>
+
+#include "pkm_accuracy/core/model/KinematicModel.hpp"
 #include "pkm_accuracy/core/model/KinematicsMath.hpp"
+#include "pkm_accuracy/core/model/Planar3RPRGeometry.hpp"
 #include "pkm_accuracy/core/model/RobotDescription.hpp"
 
 namespace pkm_accuracy {
@@ -45,6 +49,10 @@ struct Planar3RPRKinematics {
     }
   }
 };
+
+/// The planar 3-RPR robot of a Planar3RPRGeometry (known exactly).
+/// @throws InvalidGeometry if geometry.validate() fails (the message names the field).
+std::unique_ptr<KinematicModel<Planar3RPRKinematics>> makePlanar3RPR(const Planar3RPRGeometry& geometry);
 
 }  // namespace model
 }  // namespace pkm_accuracy
