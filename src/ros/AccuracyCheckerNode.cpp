@@ -297,6 +297,7 @@ bool AccuracyCheckerNode::start(std::string& error) {
   base_frame_ = frame_prefix_ + names_.base_link;
   platform_frame_ = frame_prefix_ + names_.platform_link;
   readDefaults();
+  if (!loadNamedWorkspaces(pnh_, defaults_.workspaces, error)) return false;
   ROS_INFO("Robot: %s", robotReport().c_str());
 
   tf_buffer_.reset(new tf2_ros::Buffer());
@@ -386,6 +387,7 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
         res.geometry_parameters.push_back(model_->geometryParameterName(p));
       }
     }
+    for (const auto& w : defaults_.workspaces) res.workspaces.push_back(w.first);  // (a std::map: sorted)
     res.message = robot_.summary();
     res.success = true;
   } catch (const std::exception& e) {

@@ -176,9 +176,15 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     copy6(r.max_upper, out.upper_bound);
     out.converged = r.converged;
     if (q.domain == QueryDomain::Trajectory) {
+      // The argmax times and the trajectory's poses there (the start where the verifier gives no time).
       out.lower_bound_times.assign(6, q.trajectory.timeOf(0.0));
-      for (std::size_t k = 0; k < 6 && k < r.max_argmax.size(); ++k) {
-        if (r.max_argmax[k].size() >= 1) out.lower_bound_times[k] = q.trajectory.timeOf(r.max_argmax[k][0]);
+      out.lower_bound_poses.assign(36, 0.0);
+      for (std::size_t k = 0; k < 6; ++k) {
+        DVec u = DVec::Zero(1);
+        if (k < r.max_argmax.size() && r.max_argmax[k].size() >= 1) u[0] = r.max_argmax[k][0];
+        out.lower_bound_times[k] = q.trajectory.timeOf(u[0]);
+        const std::array<double, 6> pose = poseAt(u, IVec());
+        for (std::size_t i = 0; i < 6; ++i) out.lower_bound_poses[6 * k + i] = pose[i];
       }
     } else {
       // Workspace: the argmax poses; variety: the argmax parameter points and their poses (the verifier gives the

@@ -8,6 +8,10 @@
 #include <cstdint>
 #include <string>
 
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Quaternion.h>
+#include <Eigen/Core>
+
 #include "pkm_accuracy/ros/WorkspaceQuery.hpp"
 
 namespace pkm_accuracy {
@@ -17,6 +21,23 @@ namespace fields {
 /// The request fields of the six pose coordinates, and their units.
 constexpr const char* kPoseFields[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
 constexpr const char* kPoseUnits[6] = {"m", "m", "m", "rad", "rad", "rad"};
+
+/// A tf2 frame name as tf2 compares it: without a leading '/'.
+std::string frameName(const std::string& frame);
+
+/// A pose x, y, z (m), roll, pitch, yaw (rad), R = Rz(yaw) Ry(pitch) Rx(roll), as a geometry_msgs/Pose (orientation:
+/// the unit quaternion of R).
+geometry_msgs::Pose poseMsg(const std::array<double, 6>& pose);
+/// The identity pose (position 0, orientation w = 1).
+geometry_msgs::Pose identityPose();
+
+/// A pose of a planner's message as x, y, z (m), roll, pitch, yaw (rad) with R = Rz(yaw) Ry(pitch) Rx(roll) equal to
+/// the rotation of `q` up to rounding (any rotation, including pitch +-pi/2). `position` must be finite; `q` finite
+/// with |q|^2 within 1e-2 of 1 (tf2's tolerance), normalised before use. On failure `error` names `position_field`
+/// or `orientation_field`.
+bool poseFromParts(const Eigen::Vector3d& position, const geometry_msgs::Quaternion& q,
+                   const std::string& position_field, const std::string& orientation_field, std::array<double, 6>& pose,
+                   std::string& error);
 
 /// A number for messages (10 significant digits).
 std::string num(double x);
@@ -136,6 +157,13 @@ void fillCommonResponse(const Outcome& o, Response& res) {
   res.converged = o.converged;
   res.lower_bound_geometries = o.lower_bound_geometries;
   res.has_witness = o.has_witness;
+  res.witness = o.has_witness ? poseMsg(o.witness_pose) : identityPose();
+  res.argmax_poses.clear();
+  for (std::size_t row = 0; row + 6 <= o.lower_bound_poses.size(); row += 6) {
+    std::array<double, 6> pose{};
+    for (std::size_t k = 0; k < 6; ++k) pose[k] = o.lower_bound_poses[row + k];
+    res.argmax_poses.push_back(poseMsg(pose));
+  }
   res.witness_component = o.witness_component;
   res.singular = o.singular;
   for (std::size_t i = 0; i < 12; ++i) res.singular_poses[i] = o.singular_poses[i];

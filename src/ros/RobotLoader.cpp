@@ -1,5 +1,6 @@
 #include "pkm_accuracy/ros/RobotLoader.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -281,6 +282,181 @@ bool fixedChainOrigin(const urdf::Model& urdf, const std::string& ref_link, cons
   return true;
 }
 
+// ---- named workspaces --------------------------------------------------------------------------------------------
+
+bool isMap(const XmlRpc::XmlRpcValue& v) { return v.getType() == XmlRpc::XmlRpcValue::TypeStruct; }
+
+/// The keys of a map that are not in `allowed` make the map invalid (a misspelt key would otherwise be ignored).
+bool onlyKeys(const XmlRpc::XmlRpcValue& v, const std::string& what, const std::vector<std::string>& allowed,
+              std::string& error) {
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    if (std::find(allowed.begin(), allowed.end(), it->first) != allowed.end()) continue;
+    std::string list;
+    for (const auto& k : allowed) list += (list.empty() ? "" : ", ") + k;
+    error = what + "/" + it->first + ": unknown key (expected one of " + list + ")";
+    return false;
+  }
+  return true;
+}
+
+/// A member of a map, or an error naming it if it is missing.
+bool member(const XmlRpc::XmlRpcValue& v, const std::string& what, const std::string& key, XmlRpc::XmlRpcValue& out,
+            const std::string& expected, std::string& error) {
+  if (!const_cast<XmlRpc::XmlRpcValue&>(v).hasMember(key)) {
+    error = what + "/" + key + ": expected " + expected + ", got nothing (key not set)";
+    return false;
+  }
+  out = const_cast<XmlRpc::XmlRpcValue&>(v)[key];
+  return true;
+}
+
+/// A range [min, max] of 2 finite numbers with min <= max.
+bool readRange(const XmlRpc::XmlRpcValue& v, const std::string& what, const char* unit, double& lo, double& hi,
+               std::string& error) {
+  const std::string expected = std::string("a range [min, max] of 2 numbers (") + unit + ") with min <= max";
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || v.size() != 2) {
+    error = what + ": expected " + expected + ", got " + describeValue(v);
+    return false;
+  }
+  if (!readFinite(v[0], what + "[0]", unit, lo, error) || !readFinite(v[1], what + "[1]", unit, hi, error)) {
+    return false;
+  }
+  if (lo <= hi) return true;
+  error = what + ": expected " + expected + ", got [" + numStr(lo) + ", " + numStr(hi) + "]";
+  return false;
+}
+
+/// A list of `n` finite numbers (unit `unit`).
+bool readNumbers(const XmlRpc::XmlRpcValue& v, const std::string& what, int n, const char* unit,
+                 std::vector<double>& out, std::string& error) {
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || (n > 0 && v.size() != n)) {
+    error = what + ": expected a list of " + (n > 0 ? std::to_string(n) + " numbers" : std::string("numbers")) + " (" +
+            unit + "), got " + describeValue(v);
+    return false;
+  }
+  out.assign(static_cast<std::size_t>(v.size()), 0.0);
+  for (int i = 0; i < v.size(); ++i) {
+    if (!readFinite(v[i], what + "[" + std::to_string(i) + "]", unit, out[static_cast<std::size_t>(i)], error)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool readPositiveRadius(const XmlRpc::XmlRpcValue& region, const std::string& what, double& out, std::string& error) {
+  XmlRpc::XmlRpcValue v;
+  if (!member(region, what, "radius", v, "a number > 0 (m)", error)) return false;
+  if (!readFinite(v, what + "/radius", "m", out, error)) return false;
+  if (out > 0.0) return true;
+  error = what + "/radius: expected a number > 0 (m), got " + numStr(out);
+  return false;
+}
+
+/// The `region` of a named workspace (its x, y, z ranges already in r.box_min / box_max).
+bool readNamedRegion(const XmlRpc::XmlRpcValue& v, const std::string& what, PositionRegion& r, std::string& error) {
+  using T = PositionRegion::Type;
+  XmlRpc::XmlRpcValue type;
+  if (!isMap(v) || !const_cast<XmlRpc::XmlRpcValue&>(v).hasMember("type")) {
+    error = what + ": expected a map with a key type (box, cylinder, sphere or polyhedron), got " + describeValue(v);
+    return false;
+  }
+  type = const_cast<XmlRpc::XmlRpcValue&>(v)["type"];
+  const std::string name = type.getType() == XmlRpc::XmlRpcValue::TypeString ? static_cast<std::string>(type) : "";
+  XmlRpc::XmlRpcValue field;
+  std::vector<double> numbers;
+  if (name == "box") {
+    r.type = T::Box;
+    return onlyKeys(v, what, {"type"}, error);
+  }
+  if (name == "cylinder") {
+    r.type = T::Cylinder;
+    if (!onlyKeys(v, what, {"type", "centre", "radius", "z"}, error)) return false;
+    if (!member(v, what, "centre", field, "a point [x, y] (m)", error) ||
+        !readNumbers(field, what + "/centre", 2, "m", numbers, error) ||
+        !readPositiveRadius(v, what, r.radius, error)) {
+      return false;
+    }
+    r.center = Eigen::Vector3d(numbers[0], numbers[1], 0.0);
+    r.z_min = r.box_min.z();
+    r.z_max = r.box_max.z();
+    if (const_cast<XmlRpc::XmlRpcValue&>(v).hasMember("z")) {
+      return readRange(const_cast<XmlRpc::XmlRpcValue&>(v)["z"], what + "/z", "m", r.z_min, r.z_max, error);
+    }
+    return true;
+  }
+  if (name == "sphere") {
+    r.type = T::Sphere;
+    if (!onlyKeys(v, what, {"type", "centre", "radius"}, error)) return false;
+    if (!member(v, what, "centre", field, "a point [x, y, z] (m)", error) ||
+        !readNumbers(field, what + "/centre", 3, "m", numbers, error) ||
+        !readPositiveRadius(v, what, r.radius, error)) {
+      return false;
+    }
+    r.center = Eigen::Vector3d(numbers[0], numbers[1], numbers[2]);
+    return true;
+  }
+  if (name == "polyhedron") {
+    r.type = T::Polyhedron;
+    if (!onlyKeys(v, what, {"type", "normals", "offsets"}, error)) return false;
+    if (!member(v, what, "normals", field, "a list of normals [nx, ny, nz]", error)) return false;
+    if (field.getType() != XmlRpc::XmlRpcValue::TypeArray || field.size() == 0) {
+      error = what + "/normals: expected a non-empty list of normals [nx, ny, nz], got " + describeValue(field);
+      return false;
+    }
+    for (int j = 0; j < field.size(); ++j) {
+      const std::string at = what + "/normals[" + std::to_string(j) + "]";
+      Eigen::Vector3d n;
+      if (!readPoint(field[j], at, n, error)) return false;
+      if (n.norm() == 0.0) {
+        error = at + ": expected a non-zero vector, got [0, 0, 0]";
+        return false;
+      }
+      r.halfspace_normals.push_back(n);
+    }
+    if (!member(v, what, "offsets", field, "a list of offsets (one per normal)", error) ||
+        !readNumbers(field, what + "/offsets", static_cast<int>(r.halfspace_normals.size()), "m", r.halfspace_offsets,
+                     error)) {
+      return false;
+    }
+    return true;
+  }
+  error = what + "/type: expected box, cylinder, sphere or polyhedron, got " + describeValue(type);
+  return false;
+}
+
+bool readNamedWorkspace(const XmlRpc::XmlRpcValue& v, const std::string& what, NamedWorkspace& out,
+                        std::string& error) {
+  static const char* const kKeys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+  if (!isMap(v)) {
+    error = what + ": expected a map with keys x, y, z, roll, pitch, yaw (and optionally region, frame), got " +
+            describeValue(v);
+    return false;
+  }
+  if (!onlyKeys(v, what, {"x", "y", "z", "roll", "pitch", "yaw", "region", "frame"}, error)) return false;
+  NamedWorkspace w;
+  for (int k = 0; k < 6; ++k) {
+    XmlRpc::XmlRpcValue range;
+    const char* unit = k < 3 ? "m" : "rad";
+    double lo = 0.0, hi = 0.0;
+    if (!member(v, what, kKeys[k], range, std::string("a range [min, max] (") + unit + ")", error) ||
+        !readRange(range, what + "/" + kKeys[k], unit, lo, hi, error)) {
+      return false;
+    }
+    if (k < 3) {
+      w.spec.position.box_min[k] = lo;
+      w.spec.position.box_max[k] = hi;
+    } else {
+      w.spec.angle_min[k - 3] = lo;
+      w.spec.angle_max[k - 3] = hi;
+    }
+  }
+  XmlRpc::XmlRpcValue& m = const_cast<XmlRpc::XmlRpcValue&>(v);
+  if (m.hasMember("region") && !readNamedRegion(m["region"], what + "/region", w.spec.position, error)) return false;
+  w.has_frame = m.hasMember("frame");
+  out = w;
+  return true;
+}
+
 }  // namespace
 
 bool numberFromString(const std::string& text, double& out) {
@@ -424,6 +600,26 @@ bool loadSensorParameters(const ros::NodeHandle& nh, model::GoughGeometry& inout
   }
   if (!validateGeometry(nh, g, error)) return false;
   inout = g;
+  return true;
+}
+
+bool loadNamedWorkspaces(const ros::NodeHandle& nh, std::map<std::string, NamedWorkspace>& out, std::string& error) {
+  std::map<std::string, NamedWorkspace> named;
+  XmlRpc::XmlRpcValue v;
+  if (nh.getParam("workspaces", v)) {
+    const std::string what = nh.resolveName("workspaces");
+    if (!isMap(v)) {
+      error =
+          what + ": expected a map of named workspaces (name: {x, y, z, roll, pitch, yaw}), got " + describeValue(v);
+      return false;
+    }
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      NamedWorkspace w;
+      if (!readNamedWorkspace(it->second, what + "/" + it->first, w, error)) return false;
+      named[it->first] = w;
+    }
+  }
+  out = named;
   return true;
 }
 

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
@@ -25,8 +27,10 @@ using pkm_accuracy::PolynomialSegment;
 bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& error) {
   const std::size_t n = req.times.size();
   if (n < 2) {
-    error = "times: expected at least 2 waypoints (one time each, s), or polynomial_segments instead, got " +
-            std::to_string(n) + " waypoints";
+    error =
+        "times: expected at least 2 waypoints (one time each, s), or the trajectory as polynomial_segments, path or "
+        "multi_dof_trajectory instead, got " +
+        std::to_string(n) + " waypoints";
     return false;
   }
   const std::vector<double>* coords[6] = {&req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
@@ -74,17 +78,6 @@ bool readWaypoints(const VerifyTrajectory::Request& req, TrajectorySpec& spec, s
 }
 
 bool readPolynomialSegments(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& error) {
-  const std::vector<double>* waypointArrays[7] = {&req.times, &req.x, &req.y, &req.z, &req.roll, &req.pitch, &req.yaw};
-  const char* const waypointNames[7] = {"times", "x", "y", "z", "roll", "pitch", "yaw"};
-  for (std::size_t k = 0; k < 7; ++k) {
-    if (!waypointArrays[k]->empty()) {
-      error = std::string(
-                  "polynomial_segments: expected the waypoint arrays to be empty with polynomial segments (one "
-                  "form of trajectory per request), got ") +
-              std::to_string(waypointArrays[k]->size()) + " values in " + waypointNames[k];
-      return false;
-    }
-  }
   if (!req.interpolation.empty()) {
     error = "interpolation: expected \"\" with polynomial_segments (it applies to waypoints), got \"" +
             req.interpolation + "\"";
@@ -118,19 +111,172 @@ bool readPolynomialSegments(const VerifyTrajectory::Request& req, TrajectorySpec
   return true;
 }
 
+/// Whether the request gives its trajectory as waypoints (any of the seven arrays not empty).
+bool hasWaypoints(const VerifyTrajectory::Request& req) {
+  return !(req.times.empty() && req.x.empty() && req.y.empty() && req.z.empty() && req.roll.empty() &&
+           req.pitch.empty() && req.yaw.empty());
+}
+
+/// Whether a header names a frame other than `frame` ("" names none; a leading '/' is ignored, as tf2 does).
+bool otherFrame(const std::string& header_frame, const std::string& frame) {
+  return !header_frame.empty() && fields::frameName(header_frame) != fields::frameName(frame);
+}
+
+/// The frame of a planner's message (path, multi_dof_trajectory) against the request's frame_id: its header.frame_id
+/// becomes the trajectory's frame when frame_id is ""; otherwise both must name the same frame.
+bool messageFrame(const std::string& header_frame, const std::string& field, std::string& frame_id,
+                  std::string& error) {
+  if (frame_id.empty()) {
+    frame_id = header_frame;
+    return true;
+  }
+  if (!otherFrame(header_frame, frame_id)) return true;
+  error = field + ".header.frame_id: expected \"\" or frame_id's frame \"" + frame_id +
+          "\" (one frame per request), got \"" + header_frame + "\"";
+  return false;
+}
+
+/// The interpolation of a planner's message: slerp only (its orientations are quaternions; linear_rpy would
+/// interpolate angles that the quaternions do not give).
+bool quaternionInterpolation(const VerifyTrajectory::Request& req, const char* field, TrajectorySpec& spec,
+                             std::string& error) {
+  if (req.interpolation.empty() || req.interpolation == VerifyTrajectory::Request::INTERPOLATION_SLERP) {
+    spec.slerp = true;
+    return true;
+  }
+  error = std::string("interpolation: expected \"slerp\" or \"\" with ") + field +
+          " (its orientations are quaternions; linear_rpy interpolates roll, pitch and yaw), got \"" +
+          req.interpolation + "\"";
+  return false;
+}
+
+/// One waypoint of a planner's message: its time (s, finite, after the previous one) and its pose (position finite,
+/// quaternion as fields::poseFromParts).
+bool addWaypoint(double t, const Eigen::Vector3d& position, const geometry_msgs::Quaternion& q, const std::string& at,
+                 const std::string& time_field, const std::string& position_field, const std::string& orientation_field,
+                 TrajectorySpec& spec, std::string& error) {
+  if (!std::isfinite(t)) {
+    error = time_field + ": expected a finite time (s), got " + num(t);
+    return false;
+  }
+  if (!spec.times.empty() && !(t > spec.times.back())) {
+    error = time_field + ": expected a time greater than the previous " + at + "'s, " + num(spec.times.back()) +
+            " s (times must increase strictly), got " + num(t);
+    return false;
+  }
+  std::array<double, 6> pose{};
+  if (!fields::poseFromParts(position, q, position_field, orientation_field, pose, error)) return false;
+  spec.times.push_back(t);
+  spec.poses.push_back(pose);
+  return true;
+}
+
+bool readPath(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& frame_id, std::string& error) {
+  const nav_msgs::Path& path = req.path;
+  if (path.poses.size() < 2) {
+    error = "path.poses: expected at least 2 poses (waypoints, timed by their header.stamp), got " +
+            std::to_string(path.poses.size());
+    return false;
+  }
+  if (!quaternionInterpolation(req, "path", spec, error)) return false;
+  for (std::size_t i = 0; i < path.poses.size(); ++i) {
+    const geometry_msgs::PoseStamped& p = path.poses[i];
+    const std::string at = idx("path.poses", i);
+    if (otherFrame(p.header.frame_id, path.header.frame_id)) {
+      error = at + ".header.frame_id: expected \"\" or path.header.frame_id \"" + path.header.frame_id +
+              "\" (one frame per path), got \"" + p.header.frame_id + "\"";
+      return false;
+    }
+    const Eigen::Vector3d position(p.pose.position.x, p.pose.position.y, p.pose.position.z);
+    if (!addWaypoint(p.header.stamp.toSec(), position, p.pose.orientation, "pose", at + ".header.stamp",
+                     at + ".pose.position", at + ".pose.orientation", spec, error)) {
+      return false;
+    }
+  }
+  return messageFrame(path.header.frame_id, "path", frame_id, error);
+}
+
+bool readMultiDofTrajectory(const VerifyTrajectory::Request& req, TrajectorySpec& spec, std::string& frame_id,
+                            std::string& error) {
+  const trajectory_msgs::MultiDOFJointTrajectory& m = req.multi_dof_trajectory;
+  if (m.joint_names.size() > 1) {
+    std::string names;
+    for (const auto& n : m.joint_names) names += (names.empty() ? "\"" : ", \"") + n + "\"";
+    error = "multi_dof_trajectory.joint_names: expected at most one joint (the platform frame's pose), got " +
+            std::to_string(m.joint_names.size()) + ": " + names;
+    return false;
+  }
+  if (m.points.size() < 2) {
+    error =
+        "multi_dof_trajectory.points: expected at least 2 points (waypoints, timed by their time_from_start), got " +
+        std::to_string(m.points.size());
+    return false;
+  }
+  if (!quaternionInterpolation(req, "multi_dof_trajectory", spec, error)) return false;
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const trajectory_msgs::MultiDOFJointTrajectoryPoint& p = m.points[i];
+    const std::string at = idx("multi_dof_trajectory.points", i);
+    if (p.transforms.size() != 1) {
+      error = at + ".transforms: expected 1 transform (the platform frame's pose), got " +
+              std::to_string(p.transforms.size());
+      return false;
+    }
+    const geometry_msgs::Transform& tf = p.transforms[0];
+    const Eigen::Vector3d position(tf.translation.x, tf.translation.y, tf.translation.z);
+    if (!addWaypoint(p.time_from_start.toSec(), position, tf.rotation, "point", at + ".time_from_start",
+                     at + ".transforms[0].translation", at + ".transforms[0].rotation", spec, error)) {
+      return false;
+    }
+  }
+  return messageFrame(m.header.frame_id, "multi_dof_trajectory", frame_id, error);
+}
+
+/// Exactly one form of trajectory: waypoints, polynomial_segments, path or multi_dof_trajectory. A form counts as
+/// given when any of its fields is not empty (a path's or trajectory's header alone does not count).
+bool oneForm(const VerifyTrajectory::Request& req, std::string& error) {
+  std::vector<std::pair<std::string, std::string>> given;  // (field, what it holds)
+  if (hasWaypoints(req)) given.emplace_back("times", "waypoints (" + std::to_string(req.times.size()) + " times)");
+  if (!req.polynomial_segments.empty()) {
+    given.emplace_back("polynomial_segments", std::to_string(req.polynomial_segments.size()) + " polynomial segments");
+  }
+  if (!req.path.poses.empty())
+    given.emplace_back("path", "a path of " + std::to_string(req.path.poses.size()) + " poses");
+  const auto& m = req.multi_dof_trajectory;
+  if (!m.points.empty() || !m.joint_names.empty()) {
+    given.emplace_back("multi_dof_trajectory",
+                       "a multi_dof_trajectory of " + std::to_string(m.points.size()) + " points");
+  }
+  if (given.size() <= 1) return true;
+  error = given[1].first +
+          ": expected one form of trajectory per request (waypoints, polynomial_segments, path or "
+          "multi_dof_trajectory), got " +
+          std::to_string(given.size()) + ":";
+  for (std::size_t i = 0; i < given.size(); ++i) error += (i == 0 ? " " : ", ") + given[i].second;
+  return false;
+}
+
 }  // namespace
 
 bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
                  WorkspaceQuery& out, std::string& error) {
   WorkspaceQuery q;
   q.domain = QueryDomain::Trajectory;
-  // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
-  q.frame_id = fields::frameId(req.frame_id, base_frame);
   if (!fields::mode(req.mode, q.mode, error)) return false;
-  if (req.polynomial_segments.empty() ? !readWaypoints(req, q.trajectory, error)
-                                      : !readPolynomialSegments(req, q.trajectory, error)) {
-    return false;
+  if (!oneForm(req, error)) return false;
+  std::string frame = req.frame_id;
+  bool read = false;
+  if (!req.polynomial_segments.empty()) {
+    read = readPolynomialSegments(req, q.trajectory, error);
+  } else if (!req.path.poses.empty()) {
+    read = readPath(req, q.trajectory, frame, error);
+  } else if (!req.multi_dof_trajectory.points.empty() || !req.multi_dof_trajectory.joint_names.empty()) {
+    read = readMultiDofTrajectory(req, q.trajectory, frame, error);
+  } else {
+    read = readWaypoints(req, q.trajectory, error);
   }
+  if (!read) return false;
+  // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).
+  q.frame_id = fields::frameId(frame, base_frame);
   if (!fields::sharedOptions(req, defaults, q, error)) return false;
   // min_width is a duration (s) here; the node's ~default_min_width (m / rad, for workspaces) does not apply.
   if (!option(req.min_width, 0.0, "min_width", "a finite number >= 0 (s, 0 = the verifier's choice)", q.min_width,
@@ -180,6 +326,8 @@ VerifyTrajectory::Request toRequest(const VerifyTrajectoryGoal& g) {
   r.yaw = g.yaw;
   r.interpolation = g.interpolation;
   r.polynomial_segments = g.polynomial_segments;
+  r.path = g.path;
+  r.multi_dof_trajectory = g.multi_dof_trajectory;
   fields::copyOptions(g, r);
   return r;
 }

@@ -54,8 +54,10 @@ bool readRegion(const VerifyWorkspace::Request& req, PositionRegion& r, std::str
   } else if (req.region_type == VerifyWorkspace::Request::REGION_POLYHEDRON) {
     r.type = T::Polyhedron;
   } else {
-    error = "region_type: expected one of \"box\", \"cylinder\", \"sphere\", \"polyhedron\", got \"" + req.region_type +
-            "\"";
+    error =
+        "region_type: expected one of \"box\", \"cylinder\", \"sphere\", \"polyhedron\" (or a named workspace in "
+        "workspace), got \"" +
+        req.region_type + "\"";
     return false;
   }
   if (r.type != T::Polyhedron && !(req.halfspace_normals.empty() && req.halfspace_offsets.empty())) {
@@ -128,6 +130,64 @@ bool readRegion(const VerifyWorkspace::Request& req, PositionRegion& r, std::str
   return true;
 }
 
+/// The first field describing the workspace itself that is set (not "", 0 or empty), or "" if none: a request naming
+/// a workspace must leave them all unset.
+std::string setRegionField(const VerifyWorkspace::Request& req) {
+  if (!req.region_type.empty()) return "region_type";
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (req.box_min[k] != 0.0) return idx("box_min", k);
+    if (req.box_max[k] != 0.0) return idx("box_max", k);
+  }
+  if (req.center.x != 0.0 || req.center.y != 0.0 || req.center.z != 0.0) return "center";
+  if (req.radius != 0.0) return "radius";
+  if (req.z_min != 0.0) return "z_min";
+  if (req.z_max != 0.0) return "z_max";
+  if (!req.halfspace_normals.empty()) return "halfspace_normals";
+  if (!req.halfspace_offsets.empty()) return "halfspace_offsets";
+  const double angles[6] = {req.roll_min, req.roll_max, req.pitch_min, req.pitch_max, req.yaw_min, req.yaw_max};
+  const char* const names[6] = {"roll_min", "roll_max", "pitch_min", "pitch_max", "yaw_min", "yaw_max"};
+  for (int k = 0; k < 6; ++k) {
+    if (angles[k] != 0.0) return names[k];
+  }
+  return "";
+}
+
+/// The workspace named by req.workspace (QueryDefaults::workspaces), in the base frame.
+bool readNamedWorkspace(const VerifyWorkspace::Request& req, const std::string& base_frame,
+                        const QueryDefaults& defaults, WorkspaceQuery& q, std::string& error) {
+  const std::string field = setRegionField(req);
+  if (!field.empty()) {
+    error = field + ": expected it unset (\"\", 0 or empty) with a named workspace (workspace \"" + req.workspace +
+            "\"): a request gives its workspace either by name or by its fields";
+    return false;
+  }
+  const auto it = defaults.workspaces.find(req.workspace);
+  if (it == defaults.workspaces.end()) {
+    std::string names;
+    for (const auto& w : defaults.workspaces) names += (names.empty() ? "\"" : ", \"") + w.first + "\"";
+    error = "workspace: expected " +
+            (names.empty() ? std::string("\"\" (the robot has no named workspaces: parameter ~workspaces)")
+                           : "one of the robot's named workspaces " + names + " or \"\"") +
+            ", got \"" + req.workspace + "\"";
+    return false;
+  }
+  if (it->second.has_frame) {
+    error = "workspace: \"" + req.workspace +
+            "\" is given in a frame of its own (its `frame` key), which the node does not verify; give the region "
+            "by its fields with frame_id naming that frame in tf2";
+    return false;
+  }
+  if (!req.frame_id.empty() && fields::frameName(req.frame_id) != fields::frameName(base_frame)) {
+    error = "frame_id: expected \"\" or the base frame \"" + base_frame + "\" with a named workspace (workspace \"" +
+            req.workspace + "\" is in the base frame), got \"" + req.frame_id + "\"";
+    return false;
+  }
+  q.workspace = it->second.spec;
+  q.workspace_name = req.workspace;
+  q.frame_id.clear();
+  return true;
+}
+
 }  // namespace
 
 bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
@@ -135,26 +195,29 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
   WorkspaceQuery q;
   q.frame_id = fields::frameId(req.frame_id, base_frame);
   if (!fields::mode(req.mode, q.mode, error)) return false;
-  if (!readRegion(req, q.workspace.position, error)) return false;
-
-  const double angle_min[3] = {req.roll_min, req.pitch_min, req.yaw_min};
-  const double angle_max[3] = {req.roll_max, req.pitch_max, req.yaw_max};
-  const char* const names[3] = {"roll", "pitch", "yaw"};
-  for (int k = 0; k < 3; ++k) {
-    if (!ordered(angle_min[k], angle_max[k], std::string(names[k]) + "_min", std::string(names[k]) + "_max", "rad",
-                 error)) {
-      return false;
-    }
-    for (const auto& [value, field] : {std::make_pair(angle_min[k], std::string(names[k]) + "_min"),
-                                       std::make_pair(angle_max[k], std::string(names[k]) + "_max")}) {
-      if (std::fabs(value) > domain::Workspace::kMaxAngle) {
-        error = field + ": expected an angle within [-2 pi, 2 pi] (rad; angles are periodic, so such a range covers " +
-                "every orientation), got " + num(value);
+  if (!req.workspace.empty()) {
+    if (!readNamedWorkspace(req, base_frame, defaults, q, error)) return false;
+  } else {
+    if (!readRegion(req, q.workspace.position, error)) return false;
+    const double angle_min[3] = {req.roll_min, req.pitch_min, req.yaw_min};
+    const double angle_max[3] = {req.roll_max, req.pitch_max, req.yaw_max};
+    const char* const names[3] = {"roll", "pitch", "yaw"};
+    for (int k = 0; k < 3; ++k) {
+      if (!ordered(angle_min[k], angle_max[k], std::string(names[k]) + "_min", std::string(names[k]) + "_max", "rad",
+                   error)) {
         return false;
       }
+      for (const auto& [value, field] : {std::make_pair(angle_min[k], std::string(names[k]) + "_min"),
+                                         std::make_pair(angle_max[k], std::string(names[k]) + "_max")}) {
+        if (std::fabs(value) > domain::Workspace::kMaxAngle) {
+          error = field + ": expected an angle within [-2 pi, 2 pi] (rad; angles are periodic, so such a range " +
+                  "covers every orientation), got " + num(value);
+          return false;
+        }
+      }
+      q.workspace.angle_min[k] = angle_min[k];
+      q.workspace.angle_max[k] = angle_max[k];
     }
-    q.workspace.angle_min[k] = angle_min[k];
-    q.workspace.angle_max[k] = angle_max[k];
   }
 
   if (!fields::sharedOptions(req, defaults, q, error)) return false;
@@ -193,6 +256,7 @@ void toResult(const WorkspaceOutcome& o, VerifyWorkspaceResult& result) { fillRe
 
 VerifyWorkspace::Request toRequest(const VerifyWorkspaceGoal& g) {
   VerifyWorkspace::Request r;
+  r.workspace = g.workspace;
   r.region_type = g.region_type;
   r.box_min = g.box_min;
   r.box_max = g.box_max;
@@ -232,6 +296,7 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.mode =
       q.mode == QueryMode::MaxError ? VerifyWorkspace::Request::MODE_MAX_ERROR : VerifyWorkspace::Request::MODE_VERIFY;
   msg.method = method;
+  msg.workspace = q.workspace_name;
   if (q.domain == QueryDomain::Variety) {
     // /verify_variety: region_type "variety", workspace_min / max = an enclosure of all its poses (the interval
     // evaluation of its polynomials over [0, 1]^m).

@@ -3,6 +3,7 @@
 // wrong. They never throw and never call ROS_FATAL; the caller decides what a failure means.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include <ros/node_handle.h>
@@ -10,6 +11,7 @@
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
+#include "pkm_accuracy/ros/WorkspaceQuery.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
@@ -69,8 +71,8 @@ constexpr const char* kDefaultPlatformFrame = "platform";
 /// @endcode
 ///
 /// Integers, and strings holding a number ("2e-5", see numberFromString()), are accepted wherever numbers are
-/// expected. Other keys (workspaces, anchor_uncertainty_cases, ...) are
-/// ignored. The result is checked with GoughGeometry::validate().
+/// expected. Other keys are not read here (workspaces: see loadNamedWorkspaces(); anchor_uncertainty_cases, ...). The
+/// result is checked with GoughGeometry::validate().
 ///
 /// @param nh    node handle whose namespace holds the parameters
 /// @param out   filled only on success
@@ -84,6 +86,27 @@ bool loadGoughGeometry(const ros::NodeHandle& nh, model::GoughGeometry& out, std
 /// `tool_point_uncertainty`; optional), same format as above, into `inout` (whose anchors must already be set, e.g. by
 /// loadGoughGeometryFromUrdf()), then validates the whole geometry. Used for URDF robots.
 bool loadSensorParameters(const ros::NodeHandle& nh, model::GoughGeometry& inout, std::string& error);
+
+/// Reads the robot's named workspaces from the optional parameter `workspaces` (a map name -> workspace, in the
+/// format of the robot file's `workspaces`, include/pkm_accuracy/io/RobotFile.hpp and config/ref6.yaml):
+///
+/// @code{.yaml}
+/// workspaces:
+///   paper:
+///     x: [-0.15, 0.15]              # m, base frame (the box region, or the bounds of another region)
+///     y: [-0.15, 0.15]
+///     z: [0.45, 0.50]
+///     roll: [-0.26, 0.26]           # rad
+///     pitch: [-0.26, 0.26]
+///     yaw: [-0.26, 0.26]
+///     region: {type: cylinder, centre: [0.0, 0.0], radius: 0.1, z: [0.45, 0.5]}  # optional (default: the box);
+///             # sphere: centre [x, y, z], radius; polyhedron: normals [[nx, ny, nz], ...], offsets [d, ...]
+/// @endcode
+///
+/// Entries with a `frame` key are read with has_frame set. Not set: `out` is empty.
+/// @param error on failure: one line naming the resolved parameter, e.g. "/pkm_accuracy/workspaces/paper/x:
+///              expected a range [min, max] of 2 numbers (m) with min <= max, got [0.2, 0.1]"
+bool loadNamedWorkspaces(const ros::NodeHandle& nh, std::map<std::string, NamedWorkspace>& out, std::string& error);
 
 /// Names of the frames of a loaded robot.
 struct RobotFrames {

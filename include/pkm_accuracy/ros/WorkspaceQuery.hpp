@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,6 +41,14 @@ struct WorkspaceSpec {
   PositionRegion position;
   Eigen::Vector3d angle_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d angle_max = Eigen::Vector3d::Zero();
+};
+
+/// A named workspace of the robot (the `workspaces` map of its parameters, as in config/ref6.yaml), in the base frame.
+struct NamedWorkspace {
+  WorkspaceSpec spec;
+  /// The entry has a `frame` key (a workspace given in a frame fixed to the base frame; pkm_verify reads it, the
+  /// node refuses to verify such an entry).
+  bool has_frame = false;
 };
 
 enum class QueryMode { Verify, MaxError };
@@ -76,6 +85,7 @@ enum class QueryDomain {
 struct WorkspaceQuery {
   QueryDomain domain = QueryDomain::Workspace;  ///< which of the three below is verified
   WorkspaceSpec workspace;
+  std::string workspace_name;  ///< the named workspace `workspace` is (QueryDefaults::workspaces); "" = none
   TrajectorySpec trajectory;
   VarietySpec variety;
   std::array<double, 6> thresholds{};  ///< on |dX_k|: m, m, m, rad, rad, rad (may be +inf); all 0 = none given
@@ -179,12 +189,13 @@ struct WorkspaceOutcome {
   SensitiveSummary sensitive;           ///< the first of them (component -1 if none)
 };
 
-/// Node-wide defaults for the options a request leaves at 0.
+/// Node-wide defaults for the options a request leaves at 0, and the robot's named workspaces a request may ask for.
 struct QueryDefaults {
   double alpha = 0.01;
   double time_budget = 10.0;  ///< s: jobs take well under a second; a long one must ask for more
   double min_width = 0.0;     ///< 0: let the verifier choose (relative to the workspace)
   std::string method;         ///< "": the verifier's default (verify::VerifierOptions::method)
+  std::map<std::string, NamedWorkspace> workspaces;  ///< by name (the robot's `workspaces` parameter)
 };
 
 }  // namespace ros_layer
