@@ -179,7 +179,7 @@ std::shared_ptr<const domain::Domain> parsePoseBox(const YAML::Node& n, const mo
     const std::string at = where + "." + key;
     if (!r) fail(at, "required: [min, max] (" + description.pose[static_cast<std::size_t>(k)].unit + ") or a value");
     box[k] = r.IsScalar() ? Interval(number(r, at)) : yaml::range(r, at);
-    names.push_back(model.componentName(k));
+    names.push_back(key + " [" + description.pose[static_cast<std::size_t>(k)].unit + "]");
   }
   return std::make_shared<domain::PoseBox>(names, box);
 }

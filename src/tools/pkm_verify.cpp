@@ -29,6 +29,7 @@
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/core/model/ModelRegistry.hpp"
+#include "pkm_accuracy/core/model/robots/GoughKinematics.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 #include "pkm_accuracy/io/ModelFile.hpp"
 #include "pkm_accuracy/io/ModelPlugin.hpp"
@@ -691,13 +692,12 @@ int runAndReport(Arguments& a, const model::RobotModel& model, const domain::Dom
 }
 
 // ---- one pose (--at) -----------------------------------------------------------------------------------------------
-/// The pose of --at (one value per pose coordinate of the model).
-DVec parsePose(const std::string& text, const model::RobotModel& m) {
+/// The pose of --at (one value per pose coordinate of the robot's description).
+DVec parsePose(const std::string& text, const model::RobotModel& m, const model::RobotDescription& d) {
   std::vector<std::string> names, units;
-  for (int k = 0; k < m.dof(); ++k) {
-    const std::string c = m.componentName(k);
-    names.push_back(c.substr(0, c.find(' ')));
-    units.push_back(c.find('[') == std::string::npos ? "" : c.substr(c.find('[') + 1, c.find(']') - c.find('[') - 1));
+  for (const model::PoseComponent& c : d.pose) {
+    names.push_back(c.name);
+    units.push_back(c.unit);
   }
   const std::vector<double> v = parseValues("--at", text, names, units, 0.0, false, false);
   DVec q(m.dof());
@@ -718,7 +718,7 @@ int printAt(const model::RobotModel& m, const std::string& robot, const std::str
   os << "robot: " << robot << " (" << type << ", " << m.dof() << " dof"
      << (m.hasGeometryUncertainty() ? ", uncertain geometry" : "") << ")\n";
   os << "pose:";
-  for (int k = 0; k < m.dof(); ++k) os << " " << m.componentName(k) << " = " << tools::shortNumber(q[k]) << ";";
+  for (int k = 0; k < m.dof(); ++k) os << " " << tools::shortNumber(q[k]);
   os << "\n";
   IVec box(m.dof());
   for (int k = 0; k < m.dof(); ++k) box[k] = Interval(q[k]);
@@ -844,7 +844,7 @@ int runModel(Arguments& a) {
     }
     return 0;
   }
-  if (a.at_text) return printAt(model, a.robot, file.type, parsePose(*a.at_text, model));
+  if (a.at_text) return printAt(model, a.robot, file.type, parsePose(*a.at_text, model, file.description));
 
   io::RunInfo info;
   info.version = pkm_accuracy::version();
@@ -857,7 +857,7 @@ int runModel(Arguments& a) {
   info.components.clear();
   info.units.clear();
   for (int k = 0; k < model.dof(); ++k) {
-    info.components.push_back("d" + file.description.pose[static_cast<std::size_t>(k)].name);
+    info.components.push_back(file.description.pose[static_cast<std::size_t>(k)].errorName());
     info.units.push_back(file.description.pose[static_cast<std::size_t>(k)].unit);
   }
   for (int p = 0; p < model.geometryParameterCount(); ++p) {
@@ -936,7 +936,9 @@ int run(int argc, char** argv) {
     }
   }
   const model::GoughPlatform model(robot.geometry);
-  if (a.at_text) return printAt(model, a.robot, "gough", parsePose(*a.at_text, model));
+  if (a.at_text) {
+    return printAt(model, a.robot, "gough", parsePose(*a.at_text, model, model::GoughKinematics::description()));
+  }
 
   io::RunInfo info;
   info.version = pkm_accuracy::version();

@@ -88,9 +88,9 @@ TEST(Planar3RPR, InterfaceDescribesThreeComponents) {
   const auto& robot = *robotPtr;
   EXPECT_EQ(robot.dof(), 3);
   EXPECT_EQ(robot.name(), "planar3rpr");
-  EXPECT_EQ(robot.componentName(0), "x [m]");
-  EXPECT_EQ(robot.componentName(1), "y [m]");
-  EXPECT_EQ(robot.componentName(2), "theta [rad]");
+  EXPECT_EQ(robot.componentName(0), "dx [m]");
+  EXPECT_EQ(robot.componentName(1), "dy [m]");
+  EXPECT_EQ(robot.componentName(2), "dtheta [rad]");
   EXPECT_EQ(robot.componentName(3), "?");
   EXPECT_FALSE(robot.isAngular(0));
   EXPECT_FALSE(robot.isAngular(1));

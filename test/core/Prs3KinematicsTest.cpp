@@ -127,9 +127,9 @@ TEST(Prs3Kinematics, ReferenceFileDescriptionAndRegistryAgree) {
   const auto robot = type->make(file.description);
   EXPECT_EQ(robot->dof(), 3);
   EXPECT_EQ(robot->name(), "prs3");
-  EXPECT_EQ(robot->componentName(0), "z [m]");
-  EXPECT_EQ(robot->componentName(1), "tilt_x [rad]");
-  EXPECT_EQ(robot->componentName(2), "tilt_y [rad]");
+  EXPECT_EQ(robot->componentName(0), "dz [m]");
+  EXPECT_EQ(robot->componentName(1), "dtilt_x [rad]");
+  EXPECT_EQ(robot->componentName(2), "dtilt_y [rad]");
   EXPECT_EQ(robot->jointName(2), "slider_2 [m]");
   EXPECT_FALSE(robot->isAngular(0));
   EXPECT_TRUE(robot->isAngular(1));

@@ -146,7 +146,7 @@ TEST(Rus6Kinematics, ReferenceFileDescriptionAndRegistryAgree) {
   const auto robot = type->make(file.description);
   EXPECT_EQ(robot->dof(), 6);
   EXPECT_EQ(robot->name(), "rus6");
-  EXPECT_EQ(robot->componentName(3), "roll [rad]");
+  EXPECT_EQ(robot->componentName(3), "drx [rad]");
   EXPECT_EQ(robot->jointName(4), "crank_4 [rad]");
   EXPECT_TRUE(robot->isAngular(5));
   EXPECT_FALSE(robot->isAngular(2));

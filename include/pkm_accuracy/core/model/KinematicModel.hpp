@@ -102,7 +102,7 @@ class KinematicModel final : public RobotModel {
   int dof() const override { return D; }
   std::string name() const override { return d_.type; }
   std::string componentName(int k) const override {
-    return (k >= 0 && k < D) ? d_.pose[k].name + " [" + d_.pose[k].unit + "]" : "?";
+    return (k >= 0 && k < D) ? d_.pose[k].errorName() + " [" + d_.pose[k].unit + "]" : "?";
   }
   std::string jointName(int j) const override {
     return (j >= 0 && j < D) ? d_.joints[j].name + " [" + d_.joints[j].unit + "]" : "?";

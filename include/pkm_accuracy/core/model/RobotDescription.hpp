@@ -9,11 +9,14 @@
 namespace pkm_accuracy {
 namespace model {
 
-/// One pose coordinate (= one error component): its name and unit, e.g. {"x", "m", false}, {"roll", "rad", true}.
+/// One pose coordinate and its error component: names and unit, e.g. {"x", "m", false} (error "dx"),
+/// {"roll", "rad", true, "drx"} (a Gough-convention rotation error: a component of the small rotation vector).
 struct PoseComponent {
   std::string name;
   std::string unit;
   bool angular = false;
+  std::string error_name = "";  ///< the error component's name; empty: "d" + name
+  std::string errorName() const { return error_name.empty() ? "d" + name : error_name; }
 };
 
 /// One actuated joint, whose sensor error is bounded: e.g. {"leg_0", "m"} or {"crank_2", "rad"}.
