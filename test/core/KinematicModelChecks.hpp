@@ -1,16 +1,14 @@
-// Checks shared by the tests of the built-in models written as templated kinematics (KinematicModel<K>): a reader of
-// the reference robot files (test-local, yaml-cpp), a plain double sampler of the maximal errors, and the
-// containment checks of every enclosure KinematicModel derives (J^-1 over boxes, its gradient, its Hessian, its
-// geometry derivatives) against values and central differences computed in double.
+// Checks shared by the tests of the built-in models written as templated kinematics (KinematicModel<K>): a plain
+// double sampler of the maximal errors, and the containment checks of every enclosure KinematicModel derives (J^-1
+// over boxes, its gradient, its Hessian and its preconditioned affine bounds, its geometry derivatives) against values
+// and central differences computed in double.
 #pragma once
 
 #include <gtest/gtest.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -22,59 +20,6 @@
 
 namespace pkm_accuracy {
 namespace test {
-
-/// A robot file of a non-gough type as this test reads it: the description of the type with the file's nominal
-/// values and sensor errors, and its workspaces (boxes over the pose components, in the description's order).
-struct KinematicRobotFile {
-  model::RobotDescription description;
-  std::map<std::string, IVec> workspaces;
-};
-
-/// Reads `file` for the type described by `d` (the format of config/rus6.yaml: every geometry group a top-level key,
-/// a scalar, a list of scalars, a list of [x, y, z] or one [x, y, z]). Fails the test on an unknown or missing key.
-inline KinematicRobotFile readKinematicRobotFile(const std::string& file, model::RobotDescription d) {
-  const YAML::Node y = YAML::LoadFile(file);
-  KinematicRobotFile out;
-  EXPECT_EQ(y["type"].as<std::string>(), d.type);
-  std::vector<std::string> groups;
-  for (model::GeometryValue& v : d.geometry) {
-    const std::string::size_type bracket = v.name.find('['), dot = v.name.find('.');
-    const std::string group = v.name.substr(0, std::min(bracket, dot));
-    if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
-    const int index = bracket == std::string::npos ? -1 : std::stoi(v.name.substr(bracket + 1));
-    const int axis = dot == std::string::npos ? -1 : v.name[dot + 1] - 'x';
-    // (No assignment between nodes: YAML::Node::operator= would overwrite the document's values.)
-    const YAML::Node top = y[group];
-    if (!top) {
-      ADD_FAILURE() << file << ": no key " << group;
-      continue;
-    }
-    const YAML::Node element = top.IsSequence() && index >= 0 ? top[static_cast<std::size_t>(index)] : top;
-    const YAML::Node scalar = element.IsSequence() && axis >= 0 ? element[static_cast<std::size_t>(axis)] : element;
-    v.nominal = scalar.as<double>();
-  }
-  const YAML::Node e = y["sensor_error"];
-  for (std::size_t j = 0; j < d.joints.size(); ++j)
-    d.sensor_error.push_back(e.IsSequence() ? e[j].as<double>() : e.as<double>());
-  for (const auto& w : y["workspaces"]) {
-    IVec box(static_cast<int>(d.pose.size()));
-    for (std::size_t k = 0; k < d.pose.size(); ++k) {
-      const YAML::Node r = w.second[d.pose[k].name];
-      EXPECT_TRUE(r && r.size() == 2u) << file << ": workspace " << w.first.as<std::string>() << " has no range for "
-                                       << d.pose[k].name;
-      box[static_cast<int>(k)] = r ? Interval(r[0].as<double>(), r[1].as<double>()) : Interval(0.0);
-    }
-    out.workspaces[w.first.as<std::string>()] = box;
-  }
-  for (const auto& kv : y) {
-    const std::string key = kv.first.as<std::string>();
-    const bool known = key == "type" || key == "sensor_error" || key == "workspaces" ||
-                       std::find(groups.begin(), groups.end(), key) != groups.end();
-    EXPECT_TRUE(known) << file << ": unknown key " << key;
-  }
-  out.description = d;
-  return out;
-}
 
 inline IVec thinBox(const DVec& q) {
   IVec b(q.size());
@@ -235,6 +180,48 @@ inline bool checkHessianEnclosures(const model::RobotModel& robot, const IVec& b
     }
   }
   return boundedSecond && boundedFirst;
+}
+
+/// preconditionedHessianMagnitude over `box` for a random C bounds |C H(t)| entry by entry at random points t = t0 +
+/// s dt of the box (t0 its midpoint, dt within the half-widths): by `out` alone, and by out + s linear + s^2 quadratic
+/// with the split. H(t) is the model's interval Hessian over the single point t (checked against central differences
+/// by checkHessianEnclosures); its width goes to the slack.
+inline void checkPreconditionedHessian(const model::RobotModel& robot, const IVec& box, int samples,
+                                       std::mt19937_64& rng) {
+  const int n = robot.dof();
+  const DMat c = DMat::Random(n, n);
+  std::array<DMat, MatrixHessian::kPairs> plain, out, linear, quadratic;
+  ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, c, plain));
+  ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, c, out, &linear, &quadratic));
+  std::uniform_real_distribution<double> unit(0.0, 1.0), sym(-1.0, 1.0);
+  for (int k = 0; k < samples; ++k) {
+    const double s = unit(rng);
+    IVec point(n);
+    for (int i = 0; i < n; ++i)
+      point[i] = Interval(box[i].mid() + s * sym(rng) * 0.5 * (box[i].upper() - box[i].lower()));
+    MatrixHessian h;
+    ASSERT_TRUE(robot.inverseJacobianHessianAtGeometryCentre(point, h, true));
+    for (int a = 0; a < n; ++a) {
+      for (int b = a; b < n; ++b) {
+        const int p = MatrixHessian::index(a, b);
+        DMat hm(n, n);
+        double slack = 0.0;
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j) {
+            hm(i, j) = h.d[p](i, j).mid();
+            slack = std::max(slack, h.d[p](i, j).rad());
+          }
+        const DMat ch = (c * hm).cwiseAbs();
+        const double tol = 1e-9 + 10.0 * slack * c.cwiseAbs().sum();
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j) {
+            EXPECT_LE(ch(i, j), plain[p](i, j) + tol) << "d2/d" << a << "d" << b << " (" << i << "," << j << ")";
+            EXPECT_LE(ch(i, j), out[p](i, j) + s * linear[p](i, j) + s * s * quadratic[p](i, j) + tol)
+                << "d2/d" << a << "d" << b << " (" << i << "," << j << "), s = " << s;
+          }
+      }
+    }
+  }
 }
 
 /// geometryDerivatives over `box` contains central differences (in each uncertain geometry value, computed with the

@@ -7,12 +7,15 @@
 #include <Eigen/Geometry>
 #include <Eigen/QR>
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include "KinematicModelChecks.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/model/ModelRegistry.hpp"
 #include "pkm_accuracy/core/model/robots/Prs3Kinematics.hpp"
+#include "pkm_accuracy/io/ModelFile.hpp"
 
 using namespace pkm_accuracy;
 using model::Prs3Kinematics;
@@ -21,11 +24,13 @@ namespace {
 
 using Model = model::KinematicModel<Prs3Kinematics>;
 
-test::KinematicRobotFile prs3File() {
-  return test::readKinematicRobotFile(test::configPath("prs3.yaml"), Prs3Kinematics::description());
+/// The reference robot file as pkm_verify and the node read it.
+const io::ModelFile& prs3File() {
+  static const io::ModelFile file = io::loadModelFile(test::configPath("prs3.yaml"));
+  return file;
 }
 
-IVec referenceBox() { return prs3File().workspaces.at("reference"); }
+IVec referenceBox() { return prs3File().workspaces.at("reference")->initialBox(); }
 
 /// The description with different values per leg (so that a mixed-up index would show).
 model::RobotDescription perturbed(model::RobotDescription d) {
@@ -93,7 +98,22 @@ DVec pose3(double z, double a, double b) {
 }  // namespace
 
 TEST(Prs3Kinematics, ReferenceFileDescriptionAndRegistryAgree) {
-  const test::KinematicRobotFile file = prs3File();
+  const io::ModelFile& file = prs3File();
+  EXPECT_EQ(file.type, "prs3");
+  EXPECT_TRUE(file.unknown_keys.empty());
+  EXPECT_NE(dynamic_cast<const Model*>(file.model.get()), nullptr);
+  ASSERT_EQ(file.workspaces.count("reference"), 1u);
+  // The file with an uncertainty block: the group's values become the geometry parameters.
+  {
+    std::ifstream in(test::configPath("prs3.yaml"));
+    std::stringstream text;
+    text << in.rdbuf() << "uncertainty:\n  platform_radius: 2.0e-4\n";
+    const io::ModelFile uncertain = io::parseModelDocument(text.str(), "prs3.yaml + uncertainty");
+    EXPECT_EQ(uncertain.model->geometryParameterCount(), 1);
+    EXPECT_EQ(uncertain.model->geometryParameterName(0).rfind("platform_radius", 0), 0u);
+    const Interval range = uncertain.model->geometryParameterRange(0);
+    EXPECT_NEAR(range.upper() - range.lower(), 4.0e-4, 1e-12);
+  }
   const model::RobotDescription d = Prs3Kinematics::description();
   ASSERT_EQ(file.description.geometry.size(), static_cast<std::size_t>(Prs3Kinematics::kGeometryValues));
   for (std::size_t v = 0; v < d.geometry.size(); ++v)
@@ -222,13 +242,14 @@ TEST(Prs3Kinematics, IntervalEnclosuresContainSampledInverseJacobiansIncludingNe
   }
 }
 
-TEST(Prs3Kinematics, HessianEnclosuresContainCentralDifferences) {
+TEST(Prs3Kinematics, HessianEnclosuresContainCentralDifferencesAndBoundPreconditionedHessians) {
   const Model robot(Prs3Kinematics(), perturbed(prs3File().description));
   std::mt19937_64 rng(4);
   const IVec ws = referenceBox();
   for (int trial = 0; trial < 60; ++trial) {
     const IVec box = test::randomSubBox(ws, trial % 3 == 0 ? 0.0 : 0.1 * (trial % 3), rng);
     EXPECT_TRUE(test::checkHessianEnclosures(robot, box, 5, rng));
+    test::checkPreconditionedHessian(robot, box, 5, rng);
   }
 }
 

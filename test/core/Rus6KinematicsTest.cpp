@@ -6,13 +6,16 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include "KinematicModelChecks.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/model/ModelRegistry.hpp"
 #include "pkm_accuracy/core/model/robots/Rus6Kinematics.hpp"
+#include "pkm_accuracy/io/ModelFile.hpp"
 
 using namespace pkm_accuracy;
 using model::Rus6Kinematics;
@@ -21,11 +24,13 @@ namespace {
 
 using Model = model::KinematicModel<Rus6Kinematics>;
 
-test::KinematicRobotFile rus6File() {
-  return test::readKinematicRobotFile(test::configPath("rus6.yaml"), Rus6Kinematics::description());
+/// The reference robot file as pkm_verify and the node read it.
+const io::ModelFile& rus6File() {
+  static const io::ModelFile file = io::loadModelFile(test::configPath("rus6.yaml"));
+  return file;
 }
 
-IVec referenceBox() { return rus6File().workspaces.at("reference"); }
+IVec referenceBox() { return rus6File().workspaces.at("reference")->initialBox(); }
 
 Model referenceModel() { return Model(Rus6Kinematics(), rus6File().description); }
 
@@ -105,7 +110,22 @@ model::RobotDescription withToolPoint(model::RobotDescription d) {
 }  // namespace
 
 TEST(Rus6Kinematics, ReferenceFileDescriptionAndRegistryAgree) {
-  const test::KinematicRobotFile file = rus6File();
+  const io::ModelFile& file = rus6File();
+  EXPECT_EQ(file.type, "rus6");
+  EXPECT_TRUE(file.unknown_keys.empty());
+  EXPECT_NE(dynamic_cast<const Model*>(file.model.get()), nullptr);
+  ASSERT_EQ(file.workspaces.count("reference"), 1u);
+  // The file with an uncertainty block: the group's values become the geometry parameters.
+  {
+    std::ifstream in(test::configPath("rus6.yaml"));
+    std::stringstream text;
+    text << in.rdbuf() << "uncertainty:\n  rod_length: 2.0e-4\n";
+    const io::ModelFile uncertain = io::parseModelDocument(text.str(), "rus6.yaml + uncertainty");
+    EXPECT_EQ(uncertain.model->geometryParameterCount(), 6);
+    EXPECT_EQ(uncertain.model->geometryParameterName(0).rfind("rod_length", 0), 0u);
+    const Interval range = uncertain.model->geometryParameterRange(0);
+    EXPECT_NEAR(range.upper() - range.lower(), 4.0e-4, 1e-12);
+  }
   const model::RobotDescription d = Rus6Kinematics::description();
   ASSERT_EQ(file.description.geometry.size(), static_cast<std::size_t>(Rus6Kinematics::kGeometryValues));
   for (std::size_t v = 0; v < d.geometry.size(); ++v)
@@ -251,13 +271,14 @@ TEST(Rus6Kinematics, IntervalEnclosuresContainSampledInverseJacobiansIncludingNe
   }
 }
 
-TEST(Rus6Kinematics, HessianEnclosuresContainCentralDifferences) {
+TEST(Rus6Kinematics, HessianEnclosuresContainCentralDifferencesAndBoundPreconditionedHessians) {
   const Model robot(Rus6Kinematics(), withToolPoint(rus6File().description));
   std::mt19937_64 rng(4);
   const IVec ws = referenceBox();
   for (int trial = 0; trial < 30; ++trial) {
     const IVec box = test::randomSubBox(ws, trial % 3 == 0 ? 0.0 : 0.05 * (trial % 3), rng);
     EXPECT_TRUE(test::checkHessianEnclosures(robot, box, 4, rng));
+    test::checkPreconditionedHessian(robot, box, 5, rng);
   }
 }
 

@@ -41,6 +41,7 @@ RobotDescription Rus6Kinematics::description() {
   for (int k = 0; k < 3; ++k) {
     GeometryValue c{std::string("tool_point.") + kAxis[k], "m", 0.0};
     c.tool_point_coordinate = k;
+    c.has_default = true;
     d.geometry.push_back(c);
   }
   return d;
