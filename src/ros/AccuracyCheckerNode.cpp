@@ -22,6 +22,8 @@
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/Version.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/model/ModelRegistry.hpp"
+#include "pkm_accuracy/io/ModelPlugin.hpp"
 #include "pkm_accuracy/ros/BoxMarkers.hpp"
 #include "pkm_accuracy/ros/ClientLiveness.hpp"
 #include "pkm_accuracy/ros/VerifyTrajectoryConversion.hpp"
@@ -270,8 +272,61 @@ void AccuracyCheckerNode::readDefaults() {
   max_parallel_jobs_ = readInt("max_parallel_jobs", 1, 1, 64);
 }
 
+bool AccuracyCheckerNode::loadPlugins(std::string& error) {
+  std::vector<std::string> plugins;
+  if (pnh_.hasParam("plugins") && !pnh_.getParam("plugins", plugins)) {
+    error = pnh_.resolveName("plugins") + ": expected a list of shared library paths";
+    return false;
+  }
+  for (const std::string& path : plugins) {
+    try {
+      io::loadModelPlugin(path, model::ModelRegistry::global());
+    } catch (const std::exception& e) {
+      error = pnh_.resolveName("plugins") + ": " + e.what();
+      return false;
+    }
+  }
+  return true;
+}
+
+bool AccuracyCheckerNode::loadOtherRobot(std::string& error) {
+  source_ = "yaml";
+  if (!loadUrdfAnchorNames(pnh_, names_, error)) return false;  // (the base and platform frame names)
+  io::ModelFile file;
+  if (!loadModelFromParameters(pnh_, robot_type_, file, error)) return false;
+  // The node's requests, responses and frames are those of a 6-dof pose (x, y, z, roll, pitch, yaw) with the Gough
+  // error convention (tool-point displacement and small rotation vector, base frame).
+  static const char* kPose[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+  static const char* kError[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
+  bool convention = file.description.pose.size() == 6;
+  for (std::size_t k = 0; k < file.description.pose.size() && convention; ++k) {
+    convention = file.description.pose[k].name == kPose[k] && file.description.pose[k].errorName() == kError[k];
+  }
+  if (!convention) {
+    std::string pose;
+    for (const model::PoseComponent& c : file.description.pose) pose += (pose.empty() ? "" : ", ") + c.name;
+    error = pnh_.resolveName("robot_type") + ": the node verifies robots whose pose is (x, y, z, roll, pitch, yaw) " +
+            "with the Gough error convention (types gough, rus6, or such a plugin type); " + robot_type_ +
+            " has the pose (" + pose + "): verify it with pkm_verify (docs/models.md)";
+    return false;
+  }
+  model_ = file.model;
+  sensor_error_ = file.description.sensor_error;
+  robot_summary_ = robot_type_ + ": " + model::ModelRegistry::global().find(robot_type_)->summary + ", " +
+                   std::to_string(model_->geometryParameterCount()) + " uncertain geometry values";
+  return true;
+}
+
 std::string AccuracyCheckerNode::robotReport() const {
   std::ostringstream os;
+  if (robot_type_ != "gough") {
+    os << "type " << robot_summary_ << "; from the parameters in " << pnh_.getNamespace()
+       << (robot_file_.empty() ? "" : " (file " + robot_file_ + ")") << "; frames: base " << base_frame_
+       << ", platform " << platform_frame_ << "; sensor errors " << list(sensor_error_) << " (joints";
+    for (int j = 0; j < model_->dof(); ++j) os << " " << model_->jointName(j);
+    os << ")";
+    return os.str();
+  }
   os << "type gough (6-UPS Gough platform), 6 dof (x, y, z, roll, pitch, yaw), " << robot_.legCount() << " legs; from "
      << (source_ == "yaml" ? "the parameters in " + pnh_.getNamespace() : "the URDF in robot_description")
      << (robot_file_.empty() ? "" : " (file " + robot_file_ + ")") << "; frames: base " << base_frame_ << ", platform "
@@ -287,11 +342,19 @@ bool AccuracyCheckerNode::start(std::string& error) {
   robot_file_ = pnh_.param<std::string>("robot_file", "");
   frame_prefix_ = pnh_.param<std::string>("frame_prefix", "");
   while (!frame_prefix_.empty() && frame_prefix_.front() == '/') frame_prefix_.erase(0, 1);  // (as tf2 names)
-  if (!loadRobot(error)) return false;
-  try {
-    model_.reset(new model::GoughPlatform(robot_));
-  } catch (const std::exception& e) {
-    error = std::string("robot: ") + e.what();
+  if (!loadPlugins(error)) return false;
+  robot_type_ = pnh_.param<std::string>("robot_type", pnh_.param<std::string>("type", "gough"));
+  if (robot_type_ == "gough") {
+    if (!loadRobot(error)) return false;
+    try {
+      model_ = std::make_shared<model::GoughPlatform>(robot_);
+    } catch (const std::exception& e) {
+      error = std::string("robot: ") + e.what();
+      return false;
+    }
+    sensor_error_ = robot_.sensor_error;
+    robot_summary_ = "gough: " + robot_.summary();
+  } else if (!loadOtherRobot(error)) {
     return false;
   }
   base_frame_ = frame_prefix_ + names_.base_link;
@@ -373,11 +436,15 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
     res = Describe::Response();
     res.version = pkm_accuracy::version();
     res.robot_source = source_;
+    res.robot_type = robot_type_;
+    if (model_) {
+      for (int j = 0; j < model_->dof(); ++j) res.joints.push_back(model_->jointName(j));
+    }
     res.base_frame = base_frame_;
     res.platform_frame = platform_frame_;
     for (const auto& a : robot_.base_anchors) res.base_anchors.push_back(toPoint(a));
     for (const auto& b : robot_.platform_anchors) res.platform_anchors.push_back(toPoint(b));
-    res.sensor_error = robot_.sensor_error;
+    res.sensor_error = sensor_error_;
     res.tool_point = toPoint(robot_.tool_point);
     for (const auto& h : robot_.base_anchor_halfwidth) res.base_anchor_halfwidth.push_back(toVector3(h));
     for (const auto& h : robot_.platform_anchor_halfwidth) res.platform_anchor_halfwidth.push_back(toVector3(h));
@@ -388,7 +455,7 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
       }
     }
     for (const auto& w : defaults_.workspaces) res.workspaces.push_back(w.first);  // (a std::map: sorted)
-    res.message = robot_.summary();
+    res.message = robot_summary_;
     res.success = true;
   } catch (const std::exception& e) {
     res = Describe::Response();
@@ -503,7 +570,7 @@ void AccuracyCheckerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& 
                   static_cast<unsigned long>(jobs_.size()), max_parallel_jobs_);
   }
   stat.add("robot loaded", "true");
-  stat.add("robot", robot_.summary());
+  stat.add("robot", robot_summary_);
   stat.add("robot source", source_);
   stat.add("robot file", robot_file_);
   stat.add("base frame", base_frame_);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -704,6 +705,79 @@ bool loadGoughGeometryFromUrdf(const urdf::Model& urdf, const UrdfAnchorNames& n
   }
   out.base_anchors = base;
   out.platform_anchors = platform;
+  return true;
+}
+
+std::string toYaml(const XmlRpc::XmlRpcValue& value) {
+  XmlRpc::XmlRpcValue v = value;  // (the accessors are not const)
+  std::ostringstream os;
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeStruct: {
+      os << "{";
+      bool first = true;
+      for (auto it = v.begin(); it != v.end(); ++it) {
+        os << (first ? "" : ", ") << "\"" << it->first << "\": " << toYaml(it->second);
+        first = false;
+      }
+      os << "}";
+      break;
+    }
+    case XmlRpc::XmlRpcValue::TypeArray:
+      os << "[";
+      for (int i = 0; i < v.size(); ++i) os << (i ? ", " : "") << toYaml(v[i]);
+      os << "]";
+      break;
+    case XmlRpc::XmlRpcValue::TypeDouble: {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.17g", static_cast<double>(v));
+      os << text;
+      break;
+    }
+    case XmlRpc::XmlRpcValue::TypeInt:
+      os << static_cast<int>(v);
+      break;
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      os << (static_cast<bool>(v) ? "true" : "false");
+      break;
+    case XmlRpc::XmlRpcValue::TypeString: {
+      os << "\"";
+      for (char c : static_cast<std::string>(v)) os << (c == '"' || c == '\\' ? "\\" : "") << c;
+      os << "\"";
+      break;
+    }
+    default:
+      os << "null";
+  }
+  return os.str();
+}
+
+bool loadModelFromParameters(const ros::NodeHandle& nh, const std::string& type, io::ModelFile& out,
+                             std::string& error) {
+  const model::ModelType* t = model::ModelRegistry::global().find(type);
+  if (!t) {
+    std::string list;
+    for (const std::string& n : model::ModelRegistry::global().names()) list += (list.empty() ? "" : ", ") + n;
+    error = nh.resolveName("robot_type") + ": unknown robot type \"" + type + "\" (registered: " + list +
+            "; a plugin's types need ~plugins)";
+    return false;
+  }
+  // The keys a robot file of this type has (workspaces aside): every geometry group, sensor_error, uncertainty.
+  std::set<std::string> keys = {"sensor_error", "uncertainty"};
+  for (const model::GeometryValue& g : t->description.geometry)
+    keys.insert(g.name.substr(0, g.name.find_first_of("[.")));
+  std::ostringstream yaml;
+  yaml << "{\"type\": \"" << type << "\"";
+  for (const std::string& key : keys) {
+    XmlRpc::XmlRpcValue v;
+    if (nh.getParam(key, v)) yaml << ", \"" << key << "\": " << toYaml(v);
+  }
+  yaml << "}";
+  try {
+    out = io::parseModelDocument(yaml.str(), "parameters in " + nh.getNamespace());
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
   return true;
 }
 

@@ -131,6 +131,11 @@ class AccuracyCheckerNode {
   /// The effective robot as the verifier sees it, for the start-up log (type, dof, source and file, frames, sensor
   /// errors, tool point, uncertainty half-widths).
   std::string robotReport() const;
+  /// Loads the libraries of ~plugins (robot types; io::loadModelPlugin).
+  bool loadPlugins(std::string& error);
+  /// A robot of another type than gough from the parameters (loadModelFromParameters); only 6-dof types with the
+  /// Gough pose and error convention: the node's requests and responses are those.
+  bool loadOtherRobot(std::string& error);
   bool onDescribe(Describe::Request& req, Describe::Response& res);
   bool onVerifyWorkspace(Event<VerifyWorkspace>& event);
   /// verify_trajectory: the same job admission (~max_parallel_jobs, busy), runJob(), ~progress and ~verdict as
@@ -189,7 +194,11 @@ class AccuracyCheckerNode {
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
   model::GoughGeometry robot_;
-  std::unique_ptr<const model::GoughPlatform> model_;  ///< built once from robot_ in start()
+  /// Built once in start(): a GoughPlatform from robot_ (type gough), or the registered type's model.
+  std::shared_ptr<const model::RobotModel> model_;
+  std::string robot_type_ = "gough";  ///< ~robot_type (default: the parameters' `type`, else gough)
+  std::string robot_summary_;         ///< one line: the loaded robot
+  std::vector<double> sensor_error_;  ///< per joint, in the joints' units
   UrdfAnchorNames names_;       ///< links (base_link = base frame, platform_link = platform frame) and anchor names
   std::string frame_prefix_;    ///< ~frame_prefix: prepended to every tf frame name the node uses
   std::string base_frame_;      ///< frame_prefix_ + names_.base_link: the tf name of the base frame

@@ -11,6 +11,7 @@
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
+#include "pkm_accuracy/io/ModelFile.hpp"
 #include "pkm_accuracy/ros/WorkspaceQuery.hpp"
 
 namespace pkm_accuracy {
@@ -145,6 +146,17 @@ bool loadUrdfAnchorNames(const ros::NodeHandle& nh, UrdfAnchorNames& out, std::s
 /// @param error on failure, names the link or joint, e.g. "URDF link 'base_anchor_4' (base anchor 4): not found"
 bool loadGoughGeometryFromUrdf(const urdf::Model& urdf, const UrdfAnchorNames& names, model::GoughGeometry& out,
                                std::string& error);
+
+/// A robot of a registered type other than gough from the parameters under `nh` (the keys of a robot file of that
+/// type, docs/models.md: its geometry groups, sensor_error, optional uncertainty; `workspaces` is read by
+/// loadNamedWorkspaces()). The parameters are translated to the robot file's YAML form and read by
+/// io::parseModelDocument, so the node and pkm_verify read a robot the same way.
+/// @return false with `error` naming the parameter (or the type, if it is not registered).
+bool loadModelFromParameters(const ros::NodeHandle& nh, const std::string& type, io::ModelFile& out,
+                             std::string& error);
+
+/// An XmlRpc parameter value in YAML flow form (maps, lists, numbers, strings as double-quoted scalars).
+std::string toYaml(const XmlRpc::XmlRpcValue& value);
 
 }  // namespace ros_layer
 }  // namespace pkm_accuracy

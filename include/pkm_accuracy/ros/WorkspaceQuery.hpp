@@ -192,9 +192,9 @@ struct WorkspaceOutcome {
 /// Node-wide defaults for the options a request leaves at 0, and the robot's named workspaces a request may ask for.
 struct QueryDefaults {
   double alpha = 0.01;
-  double time_budget = 10.0;  ///< s: jobs take well under a second; a long one must ask for more
-  double min_width = 0.0;     ///< 0: let the verifier choose (relative to the workspace)
-  std::string method;         ///< "": the verifier's default (verify::VerifierOptions::method)
+  double time_budget = 10.0;                         ///< s: jobs take well under a second; a long one must ask for more
+  double min_width = 0.0;                            ///< 0: let the verifier choose (relative to the workspace)
+  std::string method;                                ///< "": the verifier's default (verify::VerifierOptions::method)
   std::map<std::string, NamedWorkspace> workspaces;  ///< by name (the robot's `workspaces` parameter)
 };
 
