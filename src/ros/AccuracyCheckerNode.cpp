@@ -296,12 +296,7 @@ bool AccuracyCheckerNode::loadOtherRobot(std::string& error) {
   if (!loadModelFromParameters(pnh_, robot_type_, file, error)) return false;
   // The node's requests, responses and frames are those of a 6-dof pose (x, y, z, roll, pitch, yaw) with the Gough
   // error convention (tool-point displacement and small rotation vector, base frame).
-  static const char* kPose[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
-  static const char* kError[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
-  bool convention = file.description.pose.size() == 6;
-  for (std::size_t k = 0; k < file.description.pose.size() && convention; ++k) {
-    convention = file.description.pose[k].name == kPose[k] && file.description.pose[k].errorName() == kError[k];
-  }
+  const bool convention = model::hasRigidBodyPose(file.description.pose);
   if (!convention) {
     std::string pose;
     for (const model::PoseComponent& c : file.description.pose) pose += (pose.empty() ? "" : ", ") + c.name;

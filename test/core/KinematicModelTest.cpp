@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "KinematicModelChecks.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/PoseBox.hpp"
@@ -239,63 +240,19 @@ TEST(KinematicModel, Delta3MaxErrorBracketsTheSampledMaximaAndVerdictsFollow) {
   EXPECT_EQ(verify::Verifier::run(*d, ws, v).verdict, verify::Verdict::Unsafe);
 }
 
-namespace {
-
-/// Checks |C H_il(t0 + s dt)| <= out + s linear + s^2 quadratic (and, without the split, <= out) at sampled points
-/// of random boxes, with H at each point from the model's own interval Hessian over the single point (its midpoint;
-/// the enclosure's width, ~1e-15, goes to the slack).
-void checkPreconditionedHessian(const model::RobotModel& m, const IVec& within, std::uint64_t seed, int boxes) {
-  std::mt19937_64 rng(seed);
-  const int n = m.dof();
-  int checked = 0;
-  for (int s = 0; s < boxes; ++s) {
-    const IVec box = randomBox(within, s % 2 ? 0.05 : 0.2, rng);
-    DMat c = DMat::Random(n, n);
-    std::array<DMat, MatrixHessian::kPairs> out, plain, linear, quadratic;
-    ASSERT_TRUE(m.preconditionedHessianMagnitude(box, c, plain));
-    ASSERT_TRUE(m.preconditionedHessianMagnitude(box, c, out, &linear, &quadratic));
-    for (int k = 0; k < 10; ++k) {
-      const double sFrac = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
-      DVec t(n);
-      IVec point(n);
-      for (int i = 0; i < n; ++i) {
-        const double dir = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
-        t[i] = box[i].mid() + sFrac * dir * 0.5 * (box[i].upper() - box[i].lower());
-        point[i] = Interval(t[i]);
-      }
-      MatrixHessian h;
-      ASSERT_TRUE(m.inverseJacobianHessianAtGeometryCentre(point, h, true));
-      for (int a = 0; a < n; ++a) {
-        for (int b = a; b < n; ++b) {
-          const int p = MatrixHessian::index(a, b);
-          DMat hm(n, n);
-          double slack = 0.0;
-          for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j) {
-              hm(i, j) = h.d[p](i, j).mid();
-              slack = std::max(slack, h.d[p](i, j).rad());
-            }
-          const DMat ch = (c * hm).cwiseAbs();
-          const double tol = 1e-9 + 10.0 * slack * c.cwiseAbs().sum();
-          for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j) {
-              EXPECT_LE(ch(i, j), plain[p](i, j) + tol);
-              EXPECT_LE(ch(i, j), out[p](i, j) + sFrac * linear[p](i, j) + sFrac * sFrac * quadratic[p](i, j) + tol);
-              ++checked;
-            }
-        }
-      }
-    }
-  }
-  EXPECT_GT(checked, 0);
-}
-
-}  // namespace
-
 TEST(KinematicModel, PreconditionedHessianBoundsHoldAtSampledPoints) {
-  checkPreconditionedHessian(*delta(), deltaWorkspace().initialBox(), 21, 40);
+  // |C H_il(t0 + s dt)| <= out + s linear + s^2 quadratic (and <= the unsplit bound) at sampled points of random
+  // boxes (test::checkPreconditionedHessian), on delta3 and on the generic Gough platform.
+  std::mt19937_64 rng(21);
+  for (int s = 0; s < 40; ++s) {
+    test::checkPreconditionedHessian(*delta(), randomBox(deltaWorkspace().initialBox(), s % 2 ? 0.05 : 0.2, rng), 10,
+                                     rng);
+  }
   const model::GoughGeometry g = test::ref6File().geometry;
-  checkPreconditionedHessian(*model::makeGenericGough(g), test::ref6File().workspaces.at("paper").initialBox(), 22, 20);
+  const auto generic = model::makeGenericGough(g);
+  const IVec paper = test::ref6File().workspaces.at("paper").initialBox();
+  for (int s = 0; s < 20; ++s)
+    test::checkPreconditionedHessian(*generic, randomBox(paper, s % 2 ? 0.05 : 0.2, rng), 10, rng);
 }
 
 TEST(KinematicModel, GenericGoughHessianBoundsAreCloseToTheHandWrittenOnes) {

@@ -24,6 +24,27 @@ std::string number(double v) {
 }
 }  // namespace
 
+std::vector<PoseComponent> rigidBodyPose() {
+  return {{"x", "m", false},
+          {"y", "m", false},
+          {"z", "m", false},
+          {"roll", "rad", true, "drx"},
+          {"pitch", "rad", true, "dry"},
+          {"yaw", "rad", true, "drz"}};
+}
+
+bool hasRigidBodyPose(const std::vector<PoseComponent>& pose) {
+  const std::vector<PoseComponent> rigid = rigidBodyPose();
+  if (pose.size() != rigid.size()) return false;
+  for (std::size_t k = 0; k < pose.size(); ++k) {
+    if (pose[k].name != rigid[k].name || pose[k].unit != rigid[k].unit || pose[k].angular != rigid[k].angular ||
+        pose[k].errorName() != rigid[k].errorName()) {
+      return false;
+    }
+  }
+  return true;
+}
+
 int RobotDescription::geometryIndex(const std::string& name) const {
   for (std::size_t i = 0; i < geometry.size(); ++i)
     if (geometry[i].name == name) return static_cast<int>(i);
@@ -82,8 +103,9 @@ void RobotDescription::validate() const {
       fail(type, g.name + ": expected an uncertainty range [lo, hi] with lo <= 0 <= hi, got [" + number(g.lo) + ", " +
                      number(g.hi) + "]");
     }
-    if (g.tool_point_coordinate < -1 || g.tool_point_coordinate > 2 || (g.tool_point_coordinate >= 0 && dof != 6)) {
-      fail(type, g.name + ": a tool-point coordinate (0..2) of a 6-dof model only");
+    if (g.tool_point_coordinate < -1 || g.tool_point_coordinate > 2 ||
+        (g.tool_point_coordinate >= 0 && !hasRigidBodyPose(pose))) {
+      fail(type, g.name + ": a tool-point coordinate (0..2) of a model with the rigid-body pose (rigidBodyPose) only");
     }
     uncertain += g.uncertain() ? 1 : 0;
   }

@@ -19,6 +19,13 @@ struct PoseComponent {
   std::string errorName() const { return error_name.empty() ? "d" + name : error_name; }
 };
 
+/// The pose of a rigid platform, (x, y, z) [m] and (roll, pitch, yaw) [rad] with R = Rz(yaw) Ry(pitch) Rx(roll), and
+/// the Gough error convention: errors dx, dy, dz of the tool point and drx, dry, drz of the small rotation vector, in
+/// the base frame (types gough and rus6; the node's requests and responses are in it).
+std::vector<PoseComponent> rigidBodyPose();
+/// Whether a description's pose is rigidBodyPose().
+bool hasRigidBodyPose(const std::vector<PoseComponent>& pose);
+
 /// One actuated joint, whose sensor error is bounded: e.g. {"leg_0", "m"} or {"crank_2", "rad"}.
 struct Joint {
   std::string name;
@@ -33,8 +40,8 @@ struct GeometryValue {
   std::string unit = "m";
   double nominal = 0.0;
   double lo = 0.0, hi = 0.0;
-  /// 0, 1, 2 if this value is the x, y, z coordinate of the tool point c (platform frame) of a 6-dof model with the
-  /// Gough error convention (RobotModel::toolPointCoordinate); -1 otherwise.
+  /// 0, 1, 2 if this value is the x, y, z coordinate of the tool point c (platform frame) of a model whose pose is
+  /// rigidBodyPose() (RobotModel::toolPointCoordinate); -1 otherwise.
   int tool_point_coordinate = -1;
   /// Whether a robot file may omit this value (it then keeps `nominal`, the type's default, e.g. a tool point at 0).
   bool has_default = false;
@@ -55,7 +62,7 @@ struct RobotDescription {
   int setUncertainty(const std::string& prefix, double h);
 
   /// Checks sizes (pose = joints = sensor_error, 1..kMaxDof), unique non-empty names, finite values, lo <= 0 <= hi,
-  /// sensor_error > 0, tool-point flags only on 6-dof models, at most kMaxGeometryParameters uncertain values.
+  /// sensor_error > 0, tool-point flags only with rigidBodyPose(), at most kMaxGeometryParameters uncertain values.
   /// @throws InvalidGeometry naming the field, e.g. "sensor_error[2]: expected a positive number, got 0".
   void validate() const;
 };

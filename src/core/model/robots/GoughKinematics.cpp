@@ -11,12 +11,7 @@ namespace model {
 RobotDescription GoughKinematics::description() {
   RobotDescription d;
   d.type = "gough";
-  d.pose = {{"x", "m", false},
-            {"y", "m", false},
-            {"z", "m", false},
-            {"roll", "rad", true, "drx"},
-            {"pitch", "rad", true, "dry"},
-            {"yaw", "rad", true, "drz"}};
+  d.pose = rigidBodyPose();
   for (int i = 0; i < 6; ++i) d.joints.push_back({"leg_" + std::to_string(i), "m"});
   static const char* kAxis[3] = {"x", "y", "z"};
   for (const char* group : {"base_anchors", "platform_anchors"})

@@ -21,12 +21,7 @@ RobotDescription Rus6Kinematics::description() {
       {0.08191520442889916, -0.05735764363510465, 0.0},  {0.09063077870366501, -0.04226182617406993, 0.0}};
   RobotDescription d;
   d.type = "rus6";
-  d.pose = {{"x", "m", false},
-            {"y", "m", false},
-            {"z", "m", false},
-            {"roll", "rad", true, "drx"},
-            {"pitch", "rad", true, "dry"},
-            {"yaw", "rad", true, "drz"}};
+  d.pose = rigidBodyPose();
   for (int i = 0; i < 6; ++i) d.joints.push_back({"crank_" + std::to_string(i), "rad"});
   static const char* kAxis[3] = {"x", "y", "z"};
   auto index = [](const char* group, int i) { return std::string(group) + "[" + std::to_string(i) + "]"; };
