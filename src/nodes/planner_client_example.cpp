@@ -44,6 +44,7 @@
 #include "pkm_accuracy/VerifyTrajectory.h"
 #include "pkm_accuracy/VerifyWorkspace.h"
 #include "pkm_accuracy/VerifyWorkspaceAction.h"
+#include "pkm_accuracy/ros/RobotLoader.hpp"
 
 namespace {
 
@@ -81,17 +82,28 @@ Verdict fromAnswer(const Answer& a) {
   return v;
 }
 
-/// A list parameter of `size` numbers, or `fallback` if it is not set. A malformed one is an error: a planner must not
-/// fall back to other tolerances than those it was given.
+/// A list parameter of numbers (numeric strings such as "1e-6" included, as the node reads them:
+/// pkm_accuracy::ros_layer::parameterNumber), or `fallback` if it is not set. `size` 0: any length. A malformed one is
+/// an error: a planner must not fall back to other tolerances than those it was given.
+std::vector<double> numberList(ros::NodeHandle& pnh, const std::string& key, const std::vector<double>& fallback,
+                               std::size_t size, const std::string& expected) {
+  if (!pnh.hasParam(key)) return fallback;
+  XmlRpc::XmlRpcValue list;
+  std::vector<double> v;
+  bool ok = pnh.getParam(key, list) && list.getType() == XmlRpc::XmlRpcValue::TypeArray &&
+            (size == 0 || static_cast<std::size_t>(list.size()) == size);
+  for (int i = 0; ok && i < list.size(); ++i) {
+    double x = 0.0;
+    ok = pkm_accuracy::ros_layer::parameterNumber(list[i], x);
+    v.push_back(x);
+  }
+  if (!ok) throw std::invalid_argument(pnh.resolveName(key) + ": expected " + expected);
+  return v;
+}
+
 std::vector<double> param(ros::NodeHandle& pnh, const std::string& key, const std::vector<double>& fallback,
                           std::size_t size) {
-  if (!pnh.hasParam(key)) return fallback;
-  std::vector<double> v;
-  if (!pnh.getParam(key, v) || v.size() != size) {
-    throw std::invalid_argument(pnh.resolveName(key) + ": expected a list of " + std::to_string(size) +
-                                " numbers (in YAML write 1.0e-6, not 1e-6, which is a string)");
-  }
-  return v;
+  return numberList(pnh, key, fallback, size, "a list of " + std::to_string(size) + " numbers");
 }
 
 /// ~waypoints: a flat list of 7 numbers per waypoint (t, x, y, z, roll, pitch, yaw), at least two waypoints.
@@ -99,13 +111,11 @@ std::vector<double> waypointsParam(ros::NodeHandle& pnh) {
   const std::vector<double> fallback = {0.0, -0.01, 0.01,   0.47,  0.0,   -0.01, 0.005,  //
                                         1.0, 0.0,   -0.005, 0.475, 0.01,  0.0,   -0.01,  //
                                         3.0, 0.01,  -0.01,  0.48,  -0.01, 0.01,  0.0};
-  if (!pnh.hasParam("waypoints")) return fallback;
-  std::vector<double> v;
-  if (!pnh.getParam("waypoints", v) || v.size() < 14 || v.size() % 7 != 0) {
-    throw std::invalid_argument(pnh.resolveName("waypoints") +
-                                ": expected a flat list of 7 numbers per waypoint (t, x, y, z, roll, pitch, yaw), at "
-                                "least two waypoints (in YAML write 1.0e-6, not 1e-6, which is a string)");
-  }
+  const std::string expected =
+      "a flat list of 7 numbers per waypoint (t, x, y, z, roll, pitch, yaw), at least two waypoints";
+  const std::vector<double> v = numberList(pnh, "waypoints", fallback, 0, expected);
+  if (v.size() < 14 || v.size() % 7 != 0)
+    throw std::invalid_argument(pnh.resolveName("waypoints") + ": expected " + expected);
   return v;
 }
 
