@@ -1426,3 +1426,30 @@ TEST_F(CliTest, TrajectoriesOfOtherTypesAreRefusedByName) {
             std::string::npos)
       << r.err;
 }
+
+TEST_F(CliTest, OtherTypesListWorkspacesReadWorkspaceFilesAndTakeUncertainty) {
+  const std::string robot = kSource + "/config/delta3.yaml";
+  const RunResult list = run({"--robot", robot, "--list-workspaces"});
+  EXPECT_EQ(list.code, 0);
+  EXPECT_NE(list.out.find("reference: x [-0.1, 0.1] y [-0.1, 0.1] z [-0.45, -0.35]"), std::string::npos) << list.out;
+  // A workspace file keyed by the robot's pose coordinates (a fixed z).
+  {
+    std::ofstream f(path("slice.yaml"));
+    f << "x: [-0.02, 0.02]\ny: [-0.02, 0.02]\nz: -0.4\n";
+  }
+  const Json j = runJson({"--robot", robot, "--workspace", path("slice.yaml"), "--mode", "max-error"}, 0);
+  const auto upperNominal = j["max_error"]["upper"].numbers();
+  ASSERT_EQ(upperNominal.size(), 3u);
+  // Every forearm known to +-0.1 mm: the maxima over every admissible geometry are at least the nominal ones.
+  const Json u =
+      runJson({"--robot", robot, "--workspace", path("slice.yaml"), "--mode", "max-error", "--uncertainty", "1e-4"}, 0);
+  EXPECT_EQ(u["geometry_parameters"].size(), 12u);  // the 12 length values (radii, arms, forearms); angles stay exact
+  for (int k = 0; k < 3; ++k) EXPECT_GE(u["max_error"]["upper"].numbers()[k], 0.99 * upperNominal[k]);
+  {
+    std::ofstream f(path("bad.yaml"));
+    f << "x: [-0.02, 0.02]\ny: [-0.02, 0.02]\nroll: 0.1\n";
+  }
+  const RunResult bad = run({"--robot", robot, "--workspace", path("bad.yaml"), "--mode", "max-error"});
+  EXPECT_EQ(bad.code, 3);
+  EXPECT_NE(bad.err.find("roll"), std::string::npos) << bad.err;
+}
