@@ -92,23 +92,24 @@ class KinematicModel final : public RobotModel {
 
   /// @throws InvalidGeometry if the description is invalid or has another number of pose components than K::kDof.
   KinematicModel(K kinematics, RobotDescription description)
-      : k_(std::move(kinematics)), d_(checked(std::move(description))), g_(d_) {
-    rows_ = rowsMovedByGeometry(k_, g_.size());
-  }
+      : k_(std::move(kinematics)),
+        d_(std::make_shared<const RobotDescription>(checked(std::move(description)))),
+        g_(*d_),
+        rows_(std::make_shared<const std::vector<std::uint32_t>>(rowsMovedByGeometry(k_, g_.size()))) {}
 
-  const RobotDescription& description() const { return d_; }
+  const RobotDescription& description() const { return *d_; }
   const K& kinematics() const { return k_; }
 
   int dof() const override { return D; }
-  std::string name() const override { return d_.type; }
+  std::string name() const override { return d_->type; }
   std::string componentName(int k) const override {
-    return (k >= 0 && k < D) ? d_.pose[k].errorName() + " [" + d_.pose[k].unit + "]" : "?";
+    return (k >= 0 && k < D) ? d_->pose[k].errorName() + " [" + d_->pose[k].unit + "]" : "?";
   }
   std::string jointName(int j) const override {
-    return (j >= 0 && j < D) ? d_.joints[j].name + " [" + d_.joints[j].unit + "]" : "?";
+    return (j >= 0 && j < D) ? d_->joints[j].name + " [" + d_->joints[j].unit + "]" : "?";
   }
-  bool isAngular(int k) const override { return k >= 0 && k < D && d_.pose[k].angular; }
-  const std::vector<double>& sensorError() const override { return d_.sensor_error; }
+  bool isAngular(int k) const override { return k >= 0 && k < D && d_->pose[k].angular; }
+  const std::vector<double>& sensorError() const override { return d_->sensor_error; }
   bool hasGeometryUncertainty() const override { return g_.uncertain(); }
 
   DMat inverseJacobian(const DVec& pose) const override {
@@ -148,7 +149,7 @@ class KinematicModel final : public RobotModel {
 
   int geometryParameterCount() const override { return g_.parameterCount(); }
   std::string geometryParameterName(int p) const override {
-    return validParameter(p) ? d_.geometry[g_.valueOf(p)].name : RobotModel::geometryParameterName(p);
+    return validParameter(p) ? d_->geometry[g_.valueOf(p)].name : RobotModel::geometryParameterName(p);
   }
   Interval geometryParameterRange(int p) const override {
     return validParameter(p) ? g_.ranges()[g_.valueOf(p)] : RobotModel::geometryParameterRange(p);
@@ -160,19 +161,19 @@ class KinematicModel final : public RobotModel {
     return validParameter(p) ? g_.admissible(p) : RobotModel::geometryParameterAdmissible(p);
   }
   int toolPointCoordinate(int p) const override {
-    return validParameter(p) ? d_.geometry[g_.valueOf(p)].tool_point_coordinate : -1;
+    return validParameter(p) ? d_->geometry[g_.valueOf(p)].tool_point_coordinate : -1;
   }
   bool geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const override;
   std::unique_ptr<RobotModel> restrictGeometry(const std::vector<Interval>& ranges) const override {
     if (g_.parameterCount() == 0) return RobotModel::restrictGeometry(ranges);
     auto out = std::make_unique<KinematicModel>(*this);
-    out->g_.restrict(ranges, d_);
+    out->g_.restrict(ranges, *d_);
     return out;
   }
   std::unique_ptr<RobotModel> fixGeometryParameters(const GVec& values) const override {
     if (g_.parameterCount() == 0) return RobotModel::fixGeometryParameters(values);
     auto out = std::make_unique<KinematicModel>(*this);
-    out->g_.fix(values, d_);
+    out->g_.fix(values, *d_);
     return out;
   }
 
@@ -218,9 +219,10 @@ class KinematicModel final : public RobotModel {
                               std::array<DMat, MatrixHessian::kPairs>* centreOut) const;
 
   K k_;
-  RobotDescription d_;
+  // Shared by the restricted and fixed copies the verifier makes per box (only the geometry values differ).
+  std::shared_ptr<const RobotDescription> d_;
   GeometryValues g_;
-  std::vector<std::uint32_t> rows_;  ///< per geometry value: the rows of J^-1 it enters (bit r)
+  std::shared_ptr<const std::vector<std::uint32_t>> rows_;  ///< per geometry value: the rows of J^-1 it enters (bit r)
 };
 
 // ---- template definitions -----------------------------------------------------------------------------------------
@@ -380,7 +382,7 @@ bool KinematicModel<K>::geometryDerivatives(const IVec& pose, GeometryDerivative
   for (int a = 0; a < D; ++a) q[a] = G(pose[a]);
   for (int p = 0; p < g_.parameterCount(); ++p) {
     const int v = g_.valueOf(p);
-    const std::uint32_t rows = rows_[static_cast<std::size_t>(v)];
+    const std::uint32_t rows = (*rows_)[static_cast<std::size_t>(v)];
     if (rows == 0u) continue;
     g[static_cast<std::size_t>(v)] = G::variable(g_.ranges()[v], 0);
     k_.inverseJacobian(q, g.data(), jinv);
