@@ -4,8 +4,8 @@
 //   double                             point J^-1 and joint coordinates (not certified)
 //   Interval                           J^-1 over a pose box, every admissible geometry
 //   Dual<Interval, kMaxDof>            J^-1 and its gradient along a domain's variables (trajectories, varieties)
-//   Dual<Dual<Interval, D>, D>         first and second derivatives in the pose (the second-order enclosures)
-//   Dual<Dual<AffineForm, D>, D>       the second derivatives as affine forms in the pose over a box, so that their
+//   Jet2<Interval, D>                  first and second derivatives in the pose (the second-order enclosures)
+//   Jet2<AffineForm, D>                the second derivatives as affine forms in the pose over a box, so that their
 //                                      products with a preconditioner keep their cancellations (SegmentAffineForm
 //                                      when the remainder is split by its scaling towards the box centre)
 //   Dual<Interval, 1>                  derivatives in one geometry parameter (geometry uncertainty as parameters)
@@ -269,20 +269,17 @@ bool KinematicModel<K>::inverseJacobianHessianAtGeometryCentre(const IVec& pose,
         for (int j = 0; j < D; ++j) out.first[a](i, j) = keep(jinv[i * D + j].d(a));
     return finite;
   }
-  using Second = interval::Dual<First, D>;
+  using Second = interval::Jet2<Interval, D>;
   Second q[D], jinv[D * D];
-  for (int a = 0; a < D; ++a) q[a] = Second::variable(First::variable(pose[a], a), a);
-  std::vector<Second> g;
-  g.reserve(centre.size());
-  for (const Interval& c : centre) g.emplace_back(First(c));
+  for (int a = 0; a < D; ++a) q[a] = Second::variable(pose[a], a);
+  std::vector<Second> g(centre.begin(), centre.end());
   k_.inverseJacobian(q, g.data(), jinv);
   for (int i = 0; i < D; ++i) {
     for (int j = 0; j < D; ++j) {
       const Second& e = jinv[i * D + j];
       for (int a = 0; a < D; ++a) {
-        // Two enclosures of the same first derivative: e.value().d(a) and e.d(a).value(); keep their intersection.
-        out.first[a](i, j) = keep(intersect(e.value().d(a), e.d(a).value()));
-        for (int b = a; b < D; ++b) out.d[MatrixHessian::index(a, b)](i, j) = keep(e.d(a).d(b));
+        out.first[a](i, j) = keep(e.d(a));
+        for (int b = a; b < D; ++b) out.d[MatrixHessian::index(a, b)](i, j) = keep(e.d2(a, b));
       }
     }
   }
@@ -315,13 +312,12 @@ bool KinematicModel<K>::affineHessianMagnitude(const IVec& pose, const DMat& c,
                                                std::array<DMat, MatrixHessian::kPairs>* quadratic,
                                                std::array<DMat, MatrixHessian::kPairs>* rest,
                                                std::array<DMat, MatrixHessian::kPairs>* centreOut) const {
-  using First = interval::Dual<S, D>;
-  using Second = interval::Dual<First, D>;
+  using Second = interval::Jet2<S, D>;
   Second q[D], jinv[D * D];
-  for (int a = 0; a < D; ++a) q[a] = Second::variable(First::variable(S::variable(pose[a], a), a), a);
+  for (int a = 0; a < D; ++a) q[a] = Second::variable(S::variable(pose[a], a), a);
   std::vector<Second> g;
   g.reserve(g_.centres().size());
-  for (const Interval& v : g_.centres()) g.emplace_back(First(S(v.lower())));
+  for (const Interval& v : g_.centres()) g.emplace_back(S(v.lower()));
   k_.inverseJacobian(q, g.data(), jinv);
   const DMat absC = c.cwiseAbs();
   for (int a = 0; a < kMaxDof; ++a) {
@@ -338,7 +334,7 @@ bool KinematicModel<K>::affineHessianMagnitude(const IVec& pose, const DMat& c,
       DMat centre(D, D), radius(D, D), quad = DMat::Zero(D, D), slopes = DMat::Zero(D, D), coeff(D, D);
       for (int i = 0; i < D; ++i) {
         for (int j = 0; j < D; ++j) {
-          const S& f = jinv[i * D + j].d(a).d(b);
+          const S& f = jinv[i * D + j].d2(a, b);
           if (!f.finite()) return false;
           centre(i, j) = f.centre();
           radius(i, j) = quadratic != nullptr ? detail::remainderParts(f, quad(i, j)) : f.radius();
@@ -347,7 +343,7 @@ bool KinematicModel<K>::affineHessianMagnitude(const IVec& pose, const DMat& c,
       DMat absSum = centre.cwiseAbs();
       for (int m = 0; m < D; ++m) {
         for (int i = 0; i < D; ++i)
-          for (int j = 0; j < D; ++j) coeff(i, j) = jinv[i * D + j].d(a).d(b).coefficient(m);
+          for (int j = 0; j < D; ++j) coeff(i, j) = jinv[i * D + j].d2(a, b).coefficient(m);
         slopes += (c * coeff).cwiseAbs();
         absSum += coeff.cwiseAbs();
       }

@@ -1,7 +1,7 @@
 // The elementary functions a robot model's templated kinematics calls (KinematicModel.hpp), for every scalar type the
 // core instantiates it with: double (point evaluation, not certified), Interval (enclosures over boxes) and
-// Dual<T, N> nested to any depth (enclosures of first and second derivatives), the first-order affine forms
-// AffineForm / SegmentAffineForm (affine forms of the second derivatives over a box) and DependencyMask.
+// Dual<T, N> nested to any depth and Jet2<T, N> (enclosures of first and second derivatives), the first-order affine
+// forms AffineForm / SegmentAffineForm (affine forms of the second derivatives over a box) and DependencyMask.
 //
 // Models call them qualified, `kin::sqrt(x)`, never `std::sqrt` or an unqualified `sqrt`: these versions are
 // domain-checked. Where the argument of sqrt may be negative somewhere in a box (a pose the mechanism cannot reach,
@@ -18,6 +18,7 @@
 #include "pkm_accuracy/core/interval/Functions.hpp"
 #include "pkm_accuracy/core/interval/Interval.hpp"
 #include "pkm_accuracy/core/interval/InverseTrig.hpp"
+#include "pkm_accuracy/core/interval/Jet2.hpp"
 #include "pkm_accuracy/core/interval/SegmentAffineForm.hpp"
 #include "pkm_accuracy/core/model/DependencyMask.hpp"
 
@@ -83,6 +84,48 @@ interval::SegmentAffineForm<M> sin(const interval::SegmentAffineForm<M>& x) {
 template <int M>
 interval::SegmentAffineForm<M> cos(const interval::SegmentAffineForm<M>& x) {
   return x.finite() ? interval::cos(x) : interval::SegmentAffineForm<M>(std::nan(""));
+}
+
+// ---- Jet2<T, N> (first and second derivatives; Jet2.hpp) ------------------------------------------------------
+using interval::Jet2;
+
+template <typename T, int N>
+Jet2<T, N> sqr(const Jet2<T, N>& x) {
+  return x * x;
+}
+/// s = sqrt(x) from s^2 = x: s' = x' / (2 s), s''_ab = (x''_ab - 2 s'_a s'_b) / (2 s); unbounded where x may be
+/// <= 0 (kin::sqrt of T).
+template <typename T, int N>
+Jet2<T, N> sqrt(const Jet2<T, N>& x) {
+  const T s = kin::sqrt(x.value());
+  const T inv = T(1.0) / (s * 2.0);
+  std::array<T, N> g;
+  for (int i = 0; i < N; ++i) g[i] = x.d(i) * inv;
+  return Jet2<T, N>(s).withDerivatives(g, [&](int a, int b) { return (x.d2(a, b) - (g[a] * g[b]) * 2.0) * inv; });
+}
+template <typename T, int N>
+Jet2<T, N> sin(const Jet2<T, N>& x) {
+  const T s = kin::sin(x.value());
+  return Jet2<T, N>::chain(x, s, kin::cos(x.value()), -s);
+}
+template <typename T, int N>
+Jet2<T, N> cos(const Jet2<T, N>& x) {
+  const T c = kin::cos(x.value());
+  return Jet2<T, N>::chain(x, c, -kin::sin(x.value()), -c);
+}
+/// theta = atan2(y, x): d theta = (x dy - y dx) / r^2 with r^2 = x^2 + y^2, and
+/// d2 theta_ab = (x_a y_b + x y_ab - y_a x_b - y x_ab) / r^2 - d theta_b (2 (x x_a + y y_a)) / r^2.
+template <typename T, int N>
+Jet2<T, N> atan2(const Jet2<T, N>& y, const Jet2<T, N>& x) {
+  const T& xv = x.value();
+  const T& yv = y.value();
+  const T r2 = kin::sqr(xv) + kin::sqr(yv);
+  std::array<T, N> g;
+  for (int i = 0; i < N; ++i) g[i] = (xv * y.d(i) - yv * x.d(i)) / r2;
+  return Jet2<T, N>(kin::atan2(yv, xv)).withDerivatives(g, [&](int a, int b) {
+    return (x.d(a) * y.d(b) + xv * y.d2(a, b) - y.d(a) * x.d(b) - yv * x.d2(a, b)) / r2 -
+           g[b] * ((xv * x.d(a) + yv * y.d(a)) * 2.0) / r2;
+  });
 }
 
 // ---- Dual<T, N> (forward-mode derivatives; T may itself be a Dual) ----------------------------------------------
