@@ -3,8 +3,8 @@
 #   1. installs the package into a temporary directory (DESTDIR=TMP/stage cmake --install <build>: the files land in
 #      TMP/stage<prefix>, <prefix> being the build's CMAKE_INSTALL_PREFIX, which catkin writes into the installed
 #      setup.sh, pkm_accuracyConfig.cmake and pkm_accuracy.pc);
-#   2. checks that no installed file, text or binary (RPATHs included), names the checkout (source, build or devel
-#      space) other than through <prefix>;
+#   2. checks that no installed file, text or binary (RPATHs included), and no installed link's target names the
+#      checkout (source, build or devel space) other than through <prefix>;
 #   3. from then on runs in a clean environment that sources only <prefix>/setup.bash, in a private mount namespace
 #      where an empty directory hides the checkout and the staged install is mounted at <prefix> (when unshare can
 #      make one; otherwise the staged install runs where it is, its setup.bash finding its own location, and the
@@ -193,16 +193,24 @@ for f in lib/pkm_accuracy/accuracy_checker lib/pkm_accuracy/planner_client_examp
     exit 1
   }
 done
-# Every mention of the checkout must be the prefix itself (catkin's generated files name it). Not counted: the
-# bytecode of the generated Python messages (genmsg's install step byte-compiles them in the devel space and installs
-# the caches, which record the devel file names for tracebacks; the modules load from the installed sources).
+# Every mention of the checkout must be the prefix itself (catkin's generated files name it), in the files and in the
+# targets of installed links (install() copies a link as a link: a link into the checkout works until the checkout is
+# gone); a relative link must stay inside the install space. Not counted: the bytecode of the generated Python messages
+# (genmsg's install step byte-compiles them in the devel space and installs the caches, which record the devel file
+# names for tracebacks; the modules load from the installed sources).
 hits="$(/usr/bin/python3 - "$STAGED" "$PREFIX" "$ROOT" "$PKM_ROOT" "$WS" "$PKM_WS" <<'PY'
 import os, sys
 staged, prefix, roots = sys.argv[1], sys.argv[2].encode(), {r.encode() for r in sys.argv[3:]}
-for d, _, files in os.walk(staged):
-    for f in files:
+for d, dirs, files in os.walk(staged):
+    for f in files + [x for x in dirs if os.path.islink(os.path.join(d, x))]:
         path = os.path.join(d, f)
-        if os.path.islink(path) or (os.path.basename(d) == "__pycache__" and f.endswith(".pyc")):
+        if os.path.islink(path):
+            target = os.readlink(path)
+            inside = os.path.normpath(os.path.join(d, target)).startswith(staged + os.sep)
+            if any(r in target.encode().replace(prefix, b"") for r in roots) or not (os.path.isabs(target) or inside):
+                print(os.path.relpath(path, staged) + " -> " + target)
+            continue
+        if os.path.basename(d) == "__pycache__" and f.endswith(".pyc"):
             continue
         data = open(path, "rb").read().replace(prefix, b"")
         if any(r in data for r in roots):
@@ -210,12 +218,12 @@ for d, _, files in os.walk(staged):
 PY
 )"
 if [ -n "$hits" ]; then
-  echo "install_space: FAILED: installed files name the checkout $ROOT or the workspace $WS (other than the" \
+  echo "install_space: FAILED: installed files or links name the checkout $ROOT or the workspace $WS (other than the" \
     "prefix $PREFIX):" >&2
   sed "s|^|  |" <<<"$hits" >&2
   exit 1
 fi
-echo "install_space: no installed file names the checkout or the workspace (other than the prefix)"
+echo "install_space: no installed file or link names the checkout or the workspace (other than the prefix)"
 
 cp "${BASH_SOURCE[0]}" "$SCRATCH/check.sh"
 cd "$SCRATCH"
