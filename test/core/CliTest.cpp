@@ -1,10 +1,13 @@
 // End-to-end tests of the command-line tool pkm_verify (PKM_PVERIFY_EXE): exit codes, the JSON / YAML reports
-// (parsed here by a small strict JSON parser and by yaml-cpp) and the soundness of what they claim, checked against
-// double-precision sampling of the worst error with the model itself (GoughPlatform::worstErrorAt).
+// (parsed here by nlohmann-json and by yaml-cpp, parsers independent of the writer) and the soundness of what they
+// claim, checked against double-precision sampling of the worst error with the model itself
+// (GoughPlatform::worstErrorAt).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -40,7 +43,7 @@ const std::string kSource = PKM_SOURCE_DIR;
 const std::string kRef6 = kSource + "/config/ref6.yaml";
 const std::string kTinyRobot = kSource + "/config/tiny_fixed_orientation.yaml";
 
-// ---- a small strict JSON parser (RFC 8259: no inf / nan / trailing commas / comments) -----------------------------
+// ---- the reports as a tree, parsed by nlohmann-json (strict RFC 8259: no inf / nan / trailing commas / comments) ----
 struct Json {
   enum class Type { Null, Bool, Number, String, Array, Object };
   Type type = Type::Null;
@@ -78,183 +81,30 @@ struct Json {
   }
 };
 
-class JsonParser {
- public:
-  explicit JsonParser(const std::string& text) : s_(text) {}
-  Json parse() {
-    Json v = value();
-    skip();
-    if (i_ != s_.size()) fail("trailing characters");
-    return v;
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
-  }
-  void skip() {
-    while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\n' || s_[i_] == '\r' || s_[i_] == '\t')) ++i_;
-  }
-  bool literal(const char* word) {
-    const std::string w(word);
-    if (s_.compare(i_, w.size(), w) != 0) return false;
-    i_ += w.size();
-    return true;
-  }
-  Json value() {
-    skip();
-    if (i_ >= s_.size()) fail("unexpected end");
-    Json v;
-    const char c = s_[i_];
-    if (c == '{') {
-      v.type = Json::Type::Object;
-      ++i_;
-      skip();
-      if (i_ < s_.size() && s_[i_] == '}') {
-        ++i_;
-        return v;
-      }
-      while (true) {
-        skip();
-        if (i_ >= s_.size() || s_[i_] != '"') fail("expected a key");
-        const std::string key = stringLiteral();
-        skip();
-        if (i_ >= s_.size() || s_[i_] != ':') fail("expected ':'");
-        ++i_;
-        if (v.object.count(key)) fail("duplicate key " + key);
-        v.object[key] = value();
-        skip();
-        if (i_ < s_.size() && s_[i_] == ',') {
-          ++i_;
-          continue;
-        }
-        if (i_ < s_.size() && s_[i_] == '}') {
-          ++i_;
-          return v;
-        }
-        fail("expected ',' or '}'");
-      }
-    }
-    if (c == '[') {
-      v.type = Json::Type::Array;
-      ++i_;
-      skip();
-      if (i_ < s_.size() && s_[i_] == ']') {
-        ++i_;
-        return v;
-      }
-      while (true) {
-        v.array.push_back(value());
-        skip();
-        if (i_ < s_.size() && s_[i_] == ',') {
-          ++i_;
-          continue;
-        }
-        if (i_ < s_.size() && s_[i_] == ']') {
-          ++i_;
-          return v;
-        }
-        fail("expected ',' or ']'");
-      }
-    }
-    if (c == '"') {
-      v.type = Json::Type::String;
-      v.string = stringLiteral();
-      return v;
-    }
-    if (literal("true")) {
-      v.type = Json::Type::Bool;
-      v.boolean = true;
-      return v;
-    }
-    if (literal("false")) {
-      v.type = Json::Type::Bool;
-      return v;
-    }
-    if (literal("null")) return v;
-    // -?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?
-    const std::size_t start = i_;
-    auto digits = [&] {
-      const std::size_t d = i_;
-      while (i_ < s_.size() && s_[i_] >= '0' && s_[i_] <= '9') ++i_;
-      if (i_ == d) fail("expected a digit");
-    };
-    if (s_[i_] == '-') ++i_;
-    if (i_ < s_.size() && s_[i_] == '0') {
-      ++i_;
-    } else {
-      digits();
-    }
-    if (i_ < s_.size() && s_[i_] == '.') {
-      ++i_;
-      digits();
-    }
-    if (i_ < s_.size() && (s_[i_] == 'e' || s_[i_] == 'E')) {
-      ++i_;
-      if (i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-')) ++i_;
-      digits();
-    }
+/// The tree of a document parsed by nlohmann::json (an independent parser of pkm_verify's output).
+Json fromParsed(const nlohmann::json& n) {
+  Json v;
+  if (n.is_object()) {
+    v.type = Json::Type::Object;
+    for (auto it = n.begin(); it != n.end(); ++it) v.object[it.key()] = fromParsed(it.value());
+  } else if (n.is_array()) {
+    v.type = Json::Type::Array;
+    for (const auto& e : n) v.array.push_back(fromParsed(e));
+  } else if (n.is_string()) {
+    v.type = Json::Type::String;
+    v.string = n.get<std::string>();
+  } else if (n.is_boolean()) {
+    v.type = Json::Type::Bool;
+    v.boolean = n.get<bool>();
+  } else if (n.is_number()) {
     v.type = Json::Type::Number;
-    v.number = std::strtod(s_.substr(start, i_ - start).c_str(), nullptr);
-    return v;
+    v.number = n.get<double>();
   }
-  std::string stringLiteral() {
-    ++i_;  // opening quote
-    std::string out;
-    while (true) {
-      if (i_ >= s_.size()) fail("unterminated string");
-      const char c = s_[i_++];
-      if (c == '"') return out;
-      if (static_cast<unsigned char>(c) < 0x20) fail("control character in a string");
-      if (c != '\\') {
-        out += c;
-        continue;
-      }
-      if (i_ >= s_.size()) fail("unterminated escape");
-      const char e = s_[i_++];
-      switch (e) {
-        case '"':
-        case '\\':
-        case '/':
-          out += e;
-          break;
-        case 'b':
-          out += '\b';
-          break;
-        case 'f':
-          out += '\f';
-          break;
-        case 'n':
-          out += '\n';
-          break;
-        case 'r':
-          out += '\r';
-          break;
-        case 't':
-          out += '\t';
-          break;
-        case 'u': {
-          if (i_ + 4 > s_.size()) fail("short \\u escape");
-          const unsigned code = static_cast<unsigned>(std::stoul(s_.substr(i_, 4), nullptr, 16));
-          i_ += 4;
-          if (code < 0x80) {
-            out += static_cast<char>(code);
-          } else {
-            out += '?';  // not needed by these tests
-          }
-          break;
-        }
-        default:
-          fail("bad escape");
-      }
-    }
-  }
+  return v;
+}
 
-  const std::string& s_;
-  std::size_t i_ = 0;
-};
-
-Json parseJson(const std::string& text) { return JsonParser(text).parse(); }
+/// @throws nlohmann::json::parse_error on anything but one strict JSON document.
+Json parseJson(const std::string& text) { return fromParsed(nlohmann::json::parse(text)); }
 
 // ---- running the tool ----------------------------------------------------------------------------------------------
 std::string readFile(const std::string& path) {
