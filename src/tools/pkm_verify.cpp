@@ -201,19 +201,36 @@ struct Arguments {
 };
 
 /// 6 comma-separated numbers, one per error component (names = kComponents) or per workspace variable.
-std::vector<double> parseSix(const std::string& arg, const std::string& text, double lo, bool strict,
-                             const char* const* names, const std::string& what) {
+/// n comma-separated numbers, one per name (with its unit); `bounded`: each >= lo (> lo if `strict`), else any finite
+/// number. `what` describes the list in the count message (default: the names joined by commas).
+std::vector<double> parseValues(const std::string& arg, const std::string& text, const std::vector<std::string>& names,
+                                const std::vector<std::string>& units, double lo, bool strict, bool bounded = true,
+                                const std::string& what = "") {
   const auto items = tools::splitList(text);
-  if (items.size() != 6) {
-    badArgument(arg, "expected 6 comma-separated values (" + what + "), got " + std::to_string(items.size()) + " in '" +
-                         text + "'");
+  std::string list = what;
+  for (std::size_t k = 0; what.empty() && k < names.size(); ++k) list += (k ? "," : "") + names[k];
+  if (items.size() != names.size()) {
+    badArgument(arg, "expected " + std::to_string(names.size()) + " comma-separated values (" + list + "), got " +
+                         std::to_string(items.size()) + " in '" + text + "'");
   }
   std::vector<double> v;
   for (std::size_t k = 0; k < items.size(); ++k) {
-    v.push_back(
-        tools::parseBounded(arg + "[" + std::to_string(k) + "] (" + names[k] + ")", items[k], lo, strict, kUnits[k]));
+    const std::string item = arg + "[" + std::to_string(k) + "] (" + names[k] + ")";
+    if (bounded) {
+      v.push_back(tools::parseBounded(item, items[k], lo, strict, units[k]));
+      continue;
+    }
+    const double x = tools::parseNumber(item, items[k]);
+    if (!std::isfinite(x)) badArgument(item, "expected a finite number (" + units[k] + "), got '" + items[k] + "'");
+    v.push_back(x);
   }
   return v;
+}
+
+std::vector<double> parseSix(const std::string& arg, const std::string& text, double lo, bool strict,
+                             const char* const* names, const std::string& what) {
+  return parseValues(arg, text, std::vector<std::string>(names, names + 6),
+                     std::vector<std::string>(std::begin(kUnits), std::end(kUnits)), lo, strict, true, what);
 }
 
 /// Loads every --plugin library into the registry (exit 3 naming the library on failure).
@@ -246,30 +263,6 @@ std::string robotType(const std::string& path) {
                                "; a plugin's types need --plugin LIB)");
   }
   return type;
-}
-
-/// n comma-separated numbers, one per name (with its unit).
-std::vector<double> parseValues(const std::string& arg, const std::string& text, const std::vector<std::string>& names,
-                                const std::vector<std::string>& units, double lo, bool strict, bool bounded = true) {
-  const auto items = tools::splitList(text);
-  std::string list;
-  for (std::size_t k = 0; k < names.size(); ++k) list += (k ? "," : "") + names[k];
-  if (items.size() != names.size()) {
-    badArgument(arg, "expected " + std::to_string(names.size()) + " comma-separated values (" + list + "), got " +
-                         std::to_string(items.size()) + " in '" + text + "'");
-  }
-  std::vector<double> v;
-  for (std::size_t k = 0; k < items.size(); ++k) {
-    const std::string what = arg + "[" + std::to_string(k) + "] (" + names[k] + ")";
-    if (bounded) {
-      v.push_back(tools::parseBounded(what, items[k], lo, strict, units[k]));
-      continue;
-    }
-    const double x = tools::parseNumber(what, items[k]);
-    if (!std::isfinite(x)) badArgument(what, "expected a finite number (" + units[k] + "), got '" + items[k] + "'");
-    v.push_back(x);
-  }
-  return v;
 }
 
 Arguments parseArguments(int argc, char** argv) {
