@@ -154,7 +154,7 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
       o.time_limit_s = limit;
       o.threads = 2;
       o.thresholds = maxima[c] * 1.05;
-      if (runs[x].form >= 0) o.decompose_geometry = runs[x].form == 1;
+      if (runs[x].form >= 0) o.tuning.decompose_geometry = runs[x].form == 1;
       const double cpu0 = cpuSeconds();
       const verify::VerifierResult r = verify::Verifier::run(robot, paper, o);
       const double cpu = cpuSeconds() - cpu0;
@@ -188,7 +188,7 @@ void uncertaintyScenarios(const io::RobotFile& ref, const domain::Workspace& pap
   m.alpha = 0.02;
   m.time_limit_s = limit;
   m.threads = 2;
-  if (forms.size() == 1 && forms[0] >= 0) m.decompose_geometry = forms[0] == 1;
+  if (forms.size() == 1 && forms[0] >= 0) m.tuning.decompose_geometry = forms[0] == 1;
   const verify::VerifierResult r = verify::Verifier::run(robot, paper, m);
   urow("paper max-error 2%, +-0.5 mm", r, 0.0);
   std::printf("  (load average after it: %s)\n", bench::loadAverage().c_str());
@@ -275,7 +275,7 @@ int main(int argc, char** argv) {
   row("tiny +5% default (second_order), 2 threads", tinyDefault);
   verify::VerifierOptions b = o;
   b.method = "paper_baseline";
-  b.bisection = verify::Bisection::RoundRobin;
+  b.tuning.bisection = verify::Bisection::RoundRobin;
   b.time_limit_s = std::min(limit, 60.0);
   const auto tinyBaseline = verify::Verifier::run(tiny6, fixedWs, b);
   row("tiny +5% paper_baseline round-robin", tinyBaseline);

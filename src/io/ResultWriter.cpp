@@ -293,7 +293,7 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("components", strings(info.components));
   d.set("units", strings(info.units));
   d.set("method", Node::string(o.method));
-  d.set("bisection", Node::string(bisectionName(o.bisection)));
+  d.set("bisection", Node::string(bisectionName(o.tuning.bisection)));
   d.set("thresholds", numbersOrNull(o.thresholds));
   d.set("alpha", o.mode == verify::Mode::MaxError ? Node::number(o.alpha) : Node());
   d.set("alpha_relative", o.mode == verify::Mode::MaxError ? Node::boolean(o.alpha_relative) : Node());
@@ -302,10 +302,10 @@ Node document(const verify::VerifierResult& r, const verify::VerifierOptions& o,
   d.set("time_limit", Node::number(o.time_limit_s));
   d.set("min_width", numbersOrNull(o.min_width));
   d.set("geometry_splitting", Node::string(geometrySplittingName(o.geometry_splitting)));
-  d.set("stall_levels", Node::integer(o.stall_levels));
-  d.set("faces", Node::boolean(o.faces));
-  d.set("skip_hopeless", Node::boolean(o.skip_hopeless));
-  d.set("geometry_form", Node::string(o.decompose_geometry ? "decomposed" : "combined"));
+  d.set("stall_levels", Node::integer(o.tuning.stall_levels));
+  d.set("faces", Node::boolean(o.tuning.faces));
+  d.set("skip_hopeless", Node::boolean(o.tuning.skip_hopeless));
+  d.set("geometry_form", Node::string(o.tuning.decompose_geometry ? "decomposed" : "combined"));
   d.set("geometry_parameters", info.geometry_parameters.empty() ? Node() : strings(info.geometry_parameters));
   d.set("geometry_ranges", geometryRanges(info, info.geometry_ranges));
 
@@ -639,7 +639,8 @@ void writeSummary(std::ostream& os, const verify::VerifierResult& r, const verif
     if (info.workspace_region != "none") os << ", region " << info.workspace_region;
     os << "\n";
   }
-  os << "method:    " << o.method << ", bisection " << bisectionName(o.bisection) << ", mode " << modeName(o.mode);
+  os << "method:    " << o.method << ", bisection " << bisectionName(o.tuning.bisection) << ", mode "
+     << modeName(o.mode);
   if (o.mode == verify::Mode::MaxError) os << ", alpha " << num(o.alpha) << (o.alpha_relative ? " (relative)" : "");
   os << "\n";
 

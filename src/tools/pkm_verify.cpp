@@ -361,11 +361,11 @@ Arguments parseArguments(int argc, char** argv) {
       a.min_width_text = value;
     } else if (arg == "--bisection") {
       if (value == "smear") {
-        a.options.bisection = verify::Bisection::Smear;
+        a.options.tuning.bisection = verify::Bisection::Smear;
       } else if (value == "width") {
-        a.options.bisection = verify::Bisection::LargestScaledWidth;
+        a.options.tuning.bisection = verify::Bisection::LargestScaledWidth;
       } else if (value == "round-robin" || value == "round_robin") {
-        a.options.bisection = verify::Bisection::RoundRobin;
+        a.options.tuning.bisection = verify::Bisection::RoundRobin;
       } else {
         badArgument(arg, "expected smear, width or round-robin, got '" + value + "'");
       }
@@ -380,19 +380,19 @@ Arguments parseArguments(int argc, char** argv) {
         badArgument(arg, "expected auto, never or always, got '" + value + "'");
       }
     } else if (arg == "--faces") {
-      a.options.faces = onOff(arg, value);
+      a.options.tuning.faces = onOff(arg, value);
     } else if (arg == "--skip-hopeless") {
-      a.options.skip_hopeless = onOff(arg, value);
+      a.options.tuning.skip_hopeless = onOff(arg, value);
     } else if (arg == "--geometry-form") {
       if (value == "combined") {
-        a.options.decompose_geometry = false;
+        a.options.tuning.decompose_geometry = false;
       } else if (value == "decomposed") {
-        a.options.decompose_geometry = true;
+        a.options.tuning.decompose_geometry = true;
       } else {
         badArgument(arg, "expected combined or decomposed, got '" + value + "'");
       }
     } else if (arg == "--stall-levels") {
-      a.options.stall_levels = static_cast<int>(tools::parseCount(arg, value, kMaxStallLevels));
+      a.options.tuning.stall_levels = static_cast<int>(tools::parseCount(arg, value, kMaxStallLevels));
     } else if (arg == "--json") {
       if (value.empty()) badArgument(arg, "expected a file name or -, got an empty value");
       a.json = value;

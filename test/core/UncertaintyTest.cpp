@@ -1857,7 +1857,7 @@ void checkReferenceAnswers(bool decomposed) {
     // (second-order remainder, see SecondOrderBoundsEveryAdmissibleGeometryOnRandomBoxes) and 2% (or 5%) does not
     // converge within 15 s even with strategy (b) (reported), so 10% there.
     verify::VerifierOptions o;
-    o.decompose_geometry = decomposed;
+    o.tuning.decompose_geometry = decomposed;
     o.mode = verify::Mode::MaxError;
     o.alpha = h <= 0.0005 ? 0.02 : 0.1;
     o.time_limit_s = 30.0;  // a safety net: both converge in < 0.2 s
@@ -1865,7 +1865,7 @@ void checkReferenceAnswers(bool decomposed) {
 
     // ---- verify mode: 10% above the sampled maxima (over poses and geometries) is SAFE ----
     verify::VerifierOptions v;
-    v.decompose_geometry = decomposed;
+    v.tuning.decompose_geometry = decomposed;
     v.thresholds = s.max * 1.10;
     const auto safe = verify::Verifier::run(robot, ws, v);
     EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
@@ -2125,14 +2125,14 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
     o.thresholds = s.max * factor;
     o.threads = 1;
     o.max_boxes = 3000;
-    o.faces = false;
+    o.tuning.faces = false;
     o.geometry_splitting = verify::GeometrySplitting::Never;
     const auto never = verify::Verifier::run(robot, ws, o);
     EXPECT_EQ(never.stats.geometry_switches, 0u);
     EXPECT_EQ(never.stats.geometry_splits, 0u);
     o.max_boxes = 20000;  // a safety net
     o.geometry_splitting = verify::GeometrySplitting::Auto;
-    o.stall_levels = 1;
+    o.tuning.stall_levels = 1;
     const auto autoRun = verify::Verifier::run(robot, ws, o);
     std::cout << "[ info     ] x" << factor << ": strategy (a) " << never.stats.boxes << " boxes, auto "
               << autoRun.stats.boxes << " boxes, " << autoRun.stats.geometry_switches << " switches, "
@@ -2160,7 +2160,7 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
       EXPECT_EQ(autoRun.reason, never.reason);
       o.threads = 1;
       o.geometry_splitting = verify::GeometrySplitting::Always;
-      o.stall_levels = 0;
+      o.tuning.stall_levels = 0;
       const auto always = verify::Verifier::run(robot, ws, o);
       EXPECT_EQ(always.verdict, never.verdict) << always.message;
       EXPECT_EQ(always.reason, never.reason);
@@ -2172,8 +2172,8 @@ TEST(UncertaintyVerifier, StrategyBSwitchesOnStallsAndKeepsTheVerdict) {
   verify::VerifierOptions o;
   o.thresholds = s.max * 1.004;
   o.geometry_splitting = verify::GeometrySplitting::Auto;
-  o.faces = false;
-  o.stall_levels = 1;
+  o.tuning.faces = false;
+  o.tuning.stall_levels = 1;
   o.threads = 1;
   o.max_boxes = 60;
   o.presample_points = 0;
@@ -2277,26 +2277,26 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   verify::VerifierOptions o;
   o.thresholds = s.max * 1.004;
   o.threads = 1;
-  o.faces = false;
+  o.tuning.faces = false;
   o.geometry_splitting = verify::GeometrySplitting::Never;
   o.max_boxes = 3000;
   const auto never = verify::Verifier::run(robot, ws, o);
   EXPECT_EQ(never.verdict, Verdict::Undecided) << never.message;
   EXPECT_EQ(never.reason, UndecidedReason::BoxBudget);
   // The faces alone (no geometry bisection, stalled paths after 1 level): SAFE.
-  o.faces = true;
-  o.stall_levels = 1;
+  o.tuning.faces = true;
+  o.tuning.stall_levels = 1;
   const auto faced = verify::Verifier::run(robot, ws, o);
   EXPECT_EQ(faced.verdict, Verdict::Safe) << faced.message;
   EXPECT_GT(faced.stats.face_switches, 0u);
   EXPECT_EQ(faced.stats.geometry_splits, 0u);
   std::cout << "[ info     ] faces, no geometry bisection: " << faced.stats.boxes << " boxes\n";
-  o.faces = false;
-  o.stall_levels = 0;
+  o.tuning.faces = false;
+  o.tuning.stall_levels = 0;
   o.max_boxes = 20000;  // a safety net: a few hundred boxes are measured (Always) and a few dozen (Auto)
   for (const auto mode : {verify::GeometrySplitting::Always, verify::GeometrySplitting::Auto}) {
     o.geometry_splitting = mode;
-    o.stall_levels = mode == verify::GeometrySplitting::Auto ? 1 : 0;
+    o.tuning.stall_levels = mode == verify::GeometrySplitting::Auto ? 1 : 0;
     for (const int threads : {1, 2}) {
       o.threads = threads;
       const auto r = verify::Verifier::run(robot, ws, o);
@@ -2311,7 +2311,7 @@ TEST(UncertaintyVerifier, StrategyBProvesWhatIntervalCoefficientsCannot) {
   m.mode = verify::Mode::MaxError;
   m.alpha = 0.005;
   m.geometry_splitting = verify::GeometrySplitting::Always;
-  m.faces = false;
+  m.tuning.faces = false;
   m.time_limit_s = 20.0;
   const auto r = verify::Verifier::run(robot, ws, m);
   EXPECT_GT(r.stats.geometry_splits, 0u);
@@ -2384,7 +2384,7 @@ TEST(UncertaintyVerifier, NominalRobotIgnoresTheGeometryOptionsBitForBit) {
       for (const int stall : {0, 1, 5}) {
         verify::VerifierOptions o = plain;
         o.geometry_splitting = mode;
-        o.stall_levels = stall;
+        o.tuning.stall_levels = stall;
         same(reference, verify::Verifier::run(robot, ws, o),
              "factor " + std::to_string(factor) + " mode " + std::to_string(static_cast<int>(mode)) + " stall " +
                  std::to_string(stall));
@@ -2449,10 +2449,10 @@ TEST(UncertaintyRegression, SmearBisectionProvesSafeWhereItOnceStalled) {
   o.max_boxes = 5000;
   o.thresholds = s.max * 1.08;
   EXPECT_EQ(verify::Verifier::run(robot, ws, o).verdict, Verdict::Safe);
-  o.bisection = verify::Bisection::LargestScaledWidth;
+  o.tuning.bisection = verify::Bisection::LargestScaledWidth;
   o.thresholds = s.max * 1.10;
   EXPECT_EQ(verify::Verifier::run(robot, ws, o).verdict, Verdict::Safe);
-  o.bisection = verify::Bisection::Smear;
+  o.tuning.bisection = verify::Bisection::Smear;
   const auto r = verify::Verifier::run(robot, ws, o);
   EXPECT_EQ(r.verdict, Verdict::Safe) << r.message;
 }
@@ -2638,7 +2638,7 @@ TEST(UncertaintyVerifier, FacesCertifyMarginsBelowTheFirstOrderRemainder) {
     verify::VerifierOptions o;
     o.threads = 2;
     o.max_boxes = 20000;
-    o.decompose_geometry = decomposed;
+    o.tuning.decompose_geometry = decomposed;
     o.thresholds = DVec::Constant(6, 1.0);
     o.thresholds[4] = s.max[4] * 1.002;
     const auto safe = verify::Verifier::run(robot, ws, o);

@@ -459,9 +459,9 @@ TEST(Verifier, SkippingHopelessHalvesKeepsVerdictsAndBrackets) {
   verify::VerifierOptions o;
   o.threads = 1;
   o.thresholds = maxima * 1.05;
-  o.skip_hopeless = false;
+  o.tuning.skip_hopeless = false;
   const auto plain = verify::Verifier::run(s.robot, s.ws, o);
-  o.skip_hopeless = true;
+  o.tuning.skip_hopeless = true;
   const auto skipping = verify::Verifier::run(s.robot, s.ws, o);
   EXPECT_EQ(plain.verdict, Verdict::Safe) << plain.message;
   EXPECT_EQ(skipping.verdict, Verdict::Safe) << skipping.message;

@@ -324,29 +324,30 @@ inline void drawOptions(Rng& rng, Case& c, bool defaults) {
     o.method = kOthers[pick(rng, 5)];
   }
   const double b = uniform(rng, 0.0, 1.0);
-  o.bisection = b < 0.7    ? verify::Bisection::Smear
-                : b < 0.85 ? verify::Bisection::LargestScaledWidth
-                           : verify::Bisection::RoundRobin;
+  o.tuning.bisection = b < 0.7    ? verify::Bisection::Smear
+                       : b < 0.85 ? verify::Bisection::LargestScaledWidth
+                                  : verify::Bisection::RoundRobin;
   const double g = uniform(rng, 0.0, 1.0);
   o.geometry_splitting = g < 0.7    ? verify::GeometrySplitting::Auto
                          : g < 0.85 ? verify::GeometrySplitting::Never
                                     : verify::GeometrySplitting::Always;
-  o.decompose_geometry = chance(rng, 0.8);
+  o.tuning.decompose_geometry = chance(rng, 0.8);
   o.monotonicity = chance(rng, 0.2);
-  o.faces = chance(rng, 0.85);
-  o.skip_hopeless = chance(rng, 0.85);
+  o.tuning.faces = chance(rng, 0.85);
+  o.tuning.skip_hopeless = chance(rng, 0.85);
   static const int kPresample[] = {3, 3, 3, 3, 0, 2, 5};
   o.presample_points = kPresample[pick(rng, 7)];
   static const int kCentre[] = {2, 2, 2, 1, 3};
-  o.centre_check_period = kCentre[pick(rng, 5)];
+  o.tuning.centre_check_period = kCentre[pick(rng, 5)];
   o.stop_at_first_witness = chance(rng, 0.8);
   static const char* kBisection[] = {"smear", "largest_scaled_width", "round_robin"};
   static const char* kSplitting[] = {"auto", "never", "always"};
-  os << "method " << o.method << ", bisection " << kBisection[static_cast<int>(o.bisection)] << ", geometry_splitting "
-     << kSplitting[static_cast<int>(o.geometry_splitting)] << ", decompose_geometry " << o.decompose_geometry
-     << ", monotonicity " << o.monotonicity << ", faces " << o.faces << ", skip_hopeless " << o.skip_hopeless
-     << ", presample_points " << o.presample_points << ", centre_check_period " << o.centre_check_period
-     << ", stop_at_first_witness " << o.stop_at_first_witness;
+  os << "method " << o.method << ", bisection " << kBisection[static_cast<int>(o.tuning.bisection)]
+     << ", geometry_splitting " << kSplitting[static_cast<int>(o.geometry_splitting)] << ", decompose_geometry "
+     << o.tuning.decompose_geometry << ", monotonicity " << o.monotonicity << ", faces " << o.tuning.faces
+     << ", skip_hopeless " << o.tuning.skip_hopeless << ", presample_points " << o.presample_points
+     << ", centre_check_period " << o.tuning.centre_check_period << ", stop_at_first_witness "
+     << o.stop_at_first_witness;
   c.optionsText = os.str();
 }
 

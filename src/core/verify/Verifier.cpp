@@ -114,7 +114,7 @@ class Run {
     // progress test 6 levels cost a stalled region 2^6 boxes before its faces: 0.5% above the maxima 1 337 649 boxes
     // in 90 s, against 118 799 in 8.1 s with 3 levels and 114 739 in 7.8 s with 2; 5% margins unchanged, 1-2%
     // margins within 1%; docs/design-notes.md.)
-    stallLevels_ = options.stall_levels > 0 ? options.stall_levels : std::max(2, (varying + 1) / 2);
+    stallLevels_ = options.tuning.stall_levels > 0 ? options.tuning.stall_levels : std::max(2, (varying + 1) / 2);
   }
 
   VerifierResult execute() {
@@ -179,7 +179,7 @@ class Run {
     // first-order coefficients give the geometry hints. The 1/32 corner box at +-1 mm, 0.4% above its sampled
     // maxima: Auto SAFE after 183 boxes (32 geometry splits), UNDECIDED after 2e4 with the combined form on the halves;
     // Always on the 1/128 corner box SAFE after 819 boxes, UNDECIDED after 2e4 with the combined form.)
-    in.decomposeGeometry = options_.decompose_geometry && !track.useFaces;
+    in.decomposeGeometry = options_.tuning.decompose_geometry && !track.useFaces;
     in.rows = active;  // components decided on a containing box need no bound here
     in.targets.resize(n_);
     for (int k = 0; k < n_; ++k) in.targets[k] = target(k);
@@ -252,7 +252,7 @@ class Run {
     // (Components not enclosed here keep the bounds of the containing box that decided them.)
     next.upper = track.upper.size() == n_ ? DVec(bounds.upper.cwiseMin(track.upper)) : bounds.upper;
     int geometrySplit = -1;
-    if (params_ > 0 && (options_.faces || options_.geometry_splitting != GeometrySplitting::Never) && !byWidth) {
+    if (params_ > 0 && (options_.tuning.faces || options_.geometry_splitting != GeometrySplitting::Never) && !byWidth) {
       const double excess = relativeExcess(bounds, active);
       // Progress: the excess at least halved (VerifierOptions::stall_levels). With a 10% step the decomposed form's
       // paths keep "progressing" towards its floor at single poses (a +0.5% case UNDECIDED after 200 001 boxes), and
@@ -269,14 +269,14 @@ class Run {
       const bool always = options_.geometry_splitting == GeometrySplitting::Always;
       const bool never = options_.geometry_splitting == GeometrySplitting::Never;
       double geometryScore = -1.0;
-      if (options_.faces && !always && next.since >= stallLevels_ && !track.useFaces) {
+      if (options_.tuning.faces && !always && next.since >= stallLevels_ && !track.useFaces) {
         next.useFaces = true;
         next.since = 0;
         faceSwitches_.fetch_add(1, std::memory_order_relaxed);
       } else if (!never && (always || next.since >= stallLevels_)) {
         geometrySplit = chooseGeometrySplit(bounds, active, track, &geometryScore);
       }
-      const bool comparable = options_.bisection == Bisection::Smear && bounds.componentSmear.rows() == n_;
+      const bool comparable = options_.tuning.bisection == Bisection::Smear && bounds.componentSmear.rows() == n_;
       if (always && geometrySplit >= 0 && split >= 0 && comparable && geometryScore <= poseScore) geometrySplit = -1;
     }
     // The certified centre evaluation looks for a witness or an uncertainty-sensitive pose: a box whose centre
@@ -285,7 +285,7 @@ class Run {
     // checks cost ~7% of the time without uncertainty and ~13% at +-0.5 mm with the enclosure's estimates alone, which
     // skipped 61-62% of them; with the point value in double as well, nearly all (bench/RESULTS.md).
     const bool leaf = split < 0 && geometrySplit < 0;
-    if (leaf || (depth % std::max(1, options_.centre_check_period) == 0 &&
+    if (leaf || (depth % std::max(1, options_.tuning.centre_check_period) == 0 &&
                  !centreClearlyBelow(box, bounds, active, track.useFaces || track.geometry))) {
       checkCentre(box, options_.mode == Mode::Verify ? active : ~0u);
       const int stop = stop_.load();
@@ -297,7 +297,7 @@ class Run {
     }
     if (split < 0 && geometrySplit < 0) {
       // At the precision limit, the faces are the last resort (once per box) before giving up.
-      if (params_ > 0 && options_.faces && !track.useFaces) {
+      if (params_ > 0 && options_.tuning.faces && !track.useFaces) {
         Track faced = next;
         faced.useFaces = true;
         faceSwitches_.fetch_add(1, std::memory_order_relaxed);
@@ -494,7 +494,8 @@ class Run {
   /// faster than the first-order shares say (a 1-variable trajectory split more boxes with it: bench/RESULTS.md).
   bool hopeless(const enclosure::ErrorBounds& bounds, int split, unsigned active) const {
     constexpr double kHopeless = 1.1;
-    if (!options_.skip_hopeless || m_ < 3 || bounds.componentSmear.rows() != n_ || bounds.componentSmear.cols() != m_)
+    if (!options_.tuning.skip_hopeless || m_ < 3 || bounds.componentSmear.rows() != n_ ||
+        bounds.componentSmear.cols() != m_)
       return false;
     for (int k = 0; k < n_; ++k) {
       if (!(active & (1u << k)) || !std::isfinite(bounds.upper[k])) continue;
@@ -537,14 +538,14 @@ class Run {
     int best = -1;
     double bestScore = -1.0;
     auto splittable = [&](int i) { return box[i].upper() - box[i].lower() > minWidth_[i] && initWidth_[i] > 0.0; };
-    if (options_.bisection == Bisection::RoundRobin) {
+    if (options_.tuning.bisection == Bisection::RoundRobin) {
       for (int j = 0; j < m_; ++j) {
         const int i = (depth + j) % m_;
         if (splittable(i)) return i;
       }
       return -1;
     }
-    const bool smear = !byWidth && options_.bisection == Bisection::Smear && bounds.splitScore.size() == m_;
+    const bool smear = !byWidth && options_.tuning.bisection == Bisection::Smear && bounds.splitScore.size() == m_;
     // Per-component hints: only the components this box still has to decide count, each weighted by how far its
     // bound is from its target (threshold, or lower bound + tolerance in max-error mode).
     DVec score = smear ? DVec(bounds.splitScore) : DVec();
@@ -1343,8 +1344,9 @@ void Verifier::validate(const model::RobotModel& model, const domain::Domain& do
     require(o.time_limit_s >= 0.0 && std::isfinite(o.time_limit_s), os.str());
   }
   require(o.threads >= 0, "threads: expected >= 0 (0 = all cores), got " + std::to_string(o.threads));
-  require(o.stall_levels >= 0, "stall_levels: expected >= 0 (0 = half the number of box variables, at least 2), got " +
-                                   std::to_string(o.stall_levels));
+  require(o.tuning.stall_levels >= 0,
+          "stall_levels: expected >= 0 (0 = half the number of box variables, at least 2), got " +
+              std::to_string(o.tuning.stall_levels));
   require(o.presample_points >= 0 && o.presample_points <= 50,
           "presample_points: expected 0 to 50, got " + std::to_string(o.presample_points));
   enclosure::makeEnclosure(o.method);  // throws on an unknown name

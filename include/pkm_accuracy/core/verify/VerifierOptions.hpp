@@ -9,6 +9,7 @@
 #include <string>
 
 #include "pkm_accuracy/core/Types.hpp"
+#include "pkm_accuracy/core/verify/SearchTuning.hpp"
 
 namespace pkm_accuracy {
 namespace enclosure {
@@ -19,13 +20,6 @@ namespace verify {
 enum class Mode {
   Verify,    ///< SAFE / UNSAFE / UNDECIDED against per-component thresholds
   MaxError,  ///< certified [lower, upper] of the maximal error of every component
-};
-
-/// How the branch-and-bound chooses the variable to bisect.
-enum class Bisection {
-  Smear,               ///< largest contribution to the enclosure's width (|C dJ^-1/dt_i| rad(t_i)); default
-  LargestScaledWidth,  ///< largest width relative to the initial width
-  RoundRobin,          ///< cycle through the variables by depth (the seed paper's baseline)
 };
 
 /// How bounded geometric uncertainty (the model's geometry parameters) enters the search. In every mode the
@@ -49,7 +43,6 @@ struct VerifierOptions {
   bool alpha_relative = true;
   /// Enclosure method (enclosure::enclosureNames()).
   std::string method = "second_order";
-  Bisection bisection = Bisection::Smear;
   /// Boxes narrower than this in every variable are not split (per variable; empty: 1e-5 of the initial width).
   DVec min_width;
   /// Stop after this many boxes (0: no limit).
@@ -80,33 +73,8 @@ struct VerifierOptions {
   bool monotonicity = false;
   /// Geometric uncertainty: see GeometrySplitting.
   GeometrySplitting geometry_splitting = GeometrySplitting::Auto;
-  /// Auto: a box "keeps splitting without progress" after this many bisection levels without halving its bound's
-  /// excess over the target (0: half the number of box variables, at least 2). (A 10% reduction is not counted as
-  /// progress: the decomposed geometry form's bound creeps down by that much per few levels towards its floor at
-  /// single poses, so its paths would reach the faces too late and too small; docs/design-notes.md.)
-  int stall_levels = 0;
-  /// Geometric uncertainty: a stalled search path (or a box at the precision limit) first bounds each component on
-  /// the face of the geometry box where it is certified monotone (enclosure::BoxInput::useFaces), before any
-  /// geometry bisection; false skips that step (strategy (a), then (b)).
-  bool faces = true;
-  /// Split a box's two halves again at once, without enclosing them, when the box's own enclosure predicts that
-  /// neither can be decided: some component's bound, minus the whole share of the split variable in it (the smear
-  /// hints), is still above 1.1 times its target (threshold; in max-error mode the lower bound plus the tolerance).
-  /// Only the search order changes (Statistics::unenclosed_boxes counts them); paper workspace, 1.05 x the maxima:
-  /// 10-15% fewer boxes (bench/RESULTS.md). Only on domains of at least 3 variables (not on trajectories or
-  /// 2-parameter varieties). False encloses every box.
-  bool skip_hopeless = true;
-  /// Geometric uncertainty, second_order method, workspace boxes: bound the nominal error and its increase over the
-  /// geometry separately (enclosure::GeometryIncrement, the "decomposed" form, the default) on every search path,
-  /// geometry halves included (about their own centre), and use one expansion around the pose and the geometry
-  /// together (the "combined" form) on the paths that work on their faces; false: the combined form everywhere. Both
-  /// are rigorous. The decomposed form gives no monotone geometry directions (the combined one certifies them where the
-  /// faces need them) and needs the model's affine geometry derivatives (anchors, not the tool point: else the combined
-  /// form runs). Paper workspace, 5% margins: fewer boxes and faster than the combined form (docs/uncertainty.md);
-  /// margins below the first-order floor at single poses still get the faces.
-  bool decompose_geometry = true;
-  /// Certified evaluation at the centre of every box being split at depth multiple of this (>= 1).
-  int centre_check_period = 2;
+  /// How the search works inside (not part of the user interfaces: benches and tests set it).
+  SearchTuning tuning;
   /// Self-check of the enclosures while the search runs: for every box enclosed, a few points of the box (its centre,
   /// a vertex, random interior points; deterministic, seeded by the box), each with a point of the box's geometry
   /// ranges when the geometry is uncertain (vertices, and one interior point), are evaluated in plain double (the
