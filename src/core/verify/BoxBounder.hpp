@@ -18,7 +18,7 @@ class BoxBounder {
   BoxBounder(const SearchContext& context, SearchState& state, const PointEvaluator& points);
 
   /// Encloses the components in `active` over `box` (place in the domain `where`, on the path `track`) with `model`
-  /// (the model restricted to the track's geometry). `in` receives the enclosure's input (its pose enclosure),
+  /// (the model restricted to the path's geometry). `in` receives the enclosure's input (its pose enclosure),
   /// `bounds` the bounds. @throws InternalError from the self-check, after asking the other workers to stop.
   void bound(const model::RobotModel& model, const IVec& box, domain::Containment where, unsigned active,
              const SearchPath& track, enclosure::BoxInput& in, enclosure::ErrorBounds& bounds) const;

@@ -80,7 +80,7 @@ void BranchAndBound::process(const IVec& box, int depth, unsigned active, const 
   }
   if (closeComponents(box, where, vol, bounds, track, active)) return;
 
-  // The track the sub-boxes inherit; the split policy updates its progress.
+  // The search path the sub-boxes inherit; the split policy updates its progress.
   SearchPath next = track;
   next.signs = bounds.signs;
   next.faces = bounds.faces;

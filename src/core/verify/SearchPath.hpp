@@ -28,7 +28,7 @@ struct SearchPath {
   double ref = std::numeric_limits<double>::infinity();
   int since = 0;
   enclosure::SignPattern signs;    ///< signs of J certified on the parent box (inherited by its sub-boxes)
-  enclosure::GeometryFaces faces;  ///< geometry monotonicity certified on the parent box (for the track's model)
+  enclosure::GeometryFaces faces;  ///< geometry monotonicity certified on the parent box (for the path's model)
   bool useFaces = false;           ///< the path stalled: bound its components on their faces (BoxInput::useFaces)
   DVec upper;                      ///< the parent box's upper bounds (valid for its sub-boxes; empty at the root)
 };

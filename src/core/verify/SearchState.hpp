@@ -83,7 +83,7 @@ class SearchState {
                       const IVec& poseTo);
   /// A singular pose is recorded (relaxed: a hint for the workers).
   bool singular() const { return singular_.load(std::memory_order_relaxed); }
-  /// A box left undecided with upper bounds `upper` (for the components in `active`), on the track's geometry.
+  /// A box left undecided with upper bounds `upper` (for the components in `active`), on the path's geometry.
   void recordUndecided(const IVec& box, const DVec& upper, unsigned active = ~0u,
                        const SearchPath& track = SearchPath());
   void recordSafe(const IVec& box, const DVec& upper);

@@ -28,7 +28,7 @@ class SplitPolicy {
   SplitPolicy(const SearchContext& context, const SearchState& state) : c_(context), state_(state) {}
 
   /// The split of a box (`where`: its place in the domain, `depth`: its level) enclosed with `bounds`, whose
-  /// components in `active` are still to decide, on the path `track`. `next` holds the track its sub-boxes inherit
+  /// components in `active` are still to decide, on the path `track`. `next` holds the path its sub-boxes inherit
   /// (signs, faces, upper bounds); the stall rule updates its progress and faces switch.
   SplitChoice choose(const IVec& box, int depth, domain::Containment where, const enclosure::ErrorBounds& bounds,
                      unsigned active, const SearchPath& track, SearchPath& next) const;
