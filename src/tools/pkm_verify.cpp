@@ -94,11 +94,12 @@ void usage(std::ostream& os) {
         "                         the workspace's frame in the base frame: the reports' poses are in the base\n"
         "                         frame, the points in the workspace's variables in its frame); default: the robot\n"
         "                         file's only workspace, else the one named `paper`\n"
-        "  --trajectory FILE      (gough) verify every pose along a trajectory or motion variety instead of a "
-        "workspace\n"
-        "                         (YAML: waypoints [t, x, y, z, roll, pitch, yaw] with interpolation slerp or\n"
-        "                         linear_rpy, polynomial_segments, or variety; optional region and frame:\n"
-        "                         {translation, rpy} of the file's frame in the base frame; docs/trajectories.md);\n"
+        "  --trajectory FILE      verify every pose along a trajectory or motion variety instead of a workspace\n"
+        "                         (YAML in the robot's pose coordinates: waypoints [t, x, y, z, roll, pitch, yaw]\n"
+        "                         for gough, [t, x, y, z] for delta3, ..., with interpolation slerp or linear_rpy\n"
+        "                         (rigid-body pose) or linear (any type), polynomial_segments, or variety; optional\n"
+        "                         region and frame: {translation, rpy} of the file's frame in the base frame;\n"
+        "                         docs/trajectories.md);\n"
         "                         the reports add witness_t (s) and the undecided time intervals; their poses are\n"
         "                         in the base frame\n"
         "  --list-workspaces      print the workspaces of the robot file and exit\n"
@@ -409,9 +410,8 @@ Arguments parseArguments(int argc, char** argv) {
   if (a.type != "gough") {
     // Values per pose coordinate / error component are parsed once the robot (its dof and names) is known.
     if (haveThresholds) a.thresholds_text = thresholdsText;
-    if (!a.trajectory.empty()) {
-      badArgument("--trajectory", "trajectories and motion varieties are verified for gough robots; " + a.robot +
-                                      " is a " + a.type + " (verify a workspace of it instead)");
+    if (!a.trajectory.empty() && !a.workspace.empty()) {
+      badArgument("--trajectory", "cannot be combined with --workspace (a run verifies a workspace or a trajectory)");
     }
     if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
     return a;
@@ -526,20 +526,35 @@ void listWorkspaces(const io::RobotFile& robot, const std::string& path) {
   }
 }
 
-/// Loads --trajectory (exit 3 with the file, key and row on any problem).
-io::TrajectoryFile loadTrajectory(const std::string& path) {
+/// Loads --trajectory in the robot's pose coordinates (exit 3 with the file, key and row on any problem).
+io::TrajectoryFile loadTrajectory(const std::string& path, const domain::PoseCoordinates& pose) {
   if (!isRegularFile(path)) {
     struct stat st;
     badArgument("--trajectory",
                 path + (::stat(path.c_str(), &st) == 0 ? ": not a regular file" : ": cannot open file"));
   }
   try {
-    return io::loadTrajectoryFile(path);
+    return io::loadTrajectoryFile(path, pose);
   } catch (const InvalidArgument& e) {
     badArgument("--trajectory", e.what());
   } catch (const std::exception& e) {
     badArgument("--trajectory", path + ": cannot read: " + e.what());
   }
+}
+
+/// The domain of --trajectory in the robot's pose coordinates; fills the trajectory's keys of the reports.
+std::shared_ptr<const domain::Domain> trajectoryDomain(const std::string& path, const domain::PoseCoordinates& pose,
+                                                       io::RunInfo& info) {
+  const io::TrajectoryFile file = loadTrajectory(path, pose);
+  info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
+  info.trajectory = path;
+  info.trajectory_type = file.description;
+  info.workspace_region = file.region;
+  if (file.trajectory) {
+    info.time_start = file.trajectory->startTime();
+    info.time_end = file.trajectory->endTime();
+  }
+  return file.domain;
 }
 
 /// --min-width for a trajectory or variety: one number >= 0 per parameter of the domain.
@@ -846,8 +861,10 @@ int runModel(Arguments& a) {
   info.version = pkm_accuracy::version();
   info.robot = a.robot;
   info.robot_type = file.type;
-  const std::shared_ptr<const domain::Domain> target = resolveModelWorkspace(file, a, info.workspace);
   info.workspace_region = "box";
+  const std::shared_ptr<const domain::Domain> target =
+      a.trajectory.empty() ? resolveModelWorkspace(file, a, info.workspace)
+                           : trajectoryDomain(a.trajectory, domain::PoseCoordinates::of(file.description), info);
   info.workspace_box = target->initialBox();
   for (int i = 0; i < target->variables(); ++i) info.variables.push_back(target->variableName(i));
   info.components.clear();
@@ -873,7 +890,9 @@ int runModel(Arguments& a) {
     badArgument("--thresholds", "required in verify mode: " + std::to_string(model.dof()) +
                                     " comma-separated values > 0, " + list + " (or use --mode max_error)");
   }
-  if (a.min_width_text) {
+  if (a.min_width_text && !a.trajectory.empty()) {
+    a.min_width = parseList("--min-width", *a.min_width_text, *target);
+  } else if (a.min_width_text) {
     std::vector<std::string> names, units;
     for (int i = 0; i < target->variables(); ++i) {
       const std::string n = target->variableName(i);
@@ -951,16 +970,7 @@ int run(int argc, char** argv) {
       info.workspace += ", in " + framed->frameDescription();
     }
   } else {
-    const io::TrajectoryFile file = loadTrajectory(a.trajectory);
-    info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
-    info.trajectory = a.trajectory;
-    info.trajectory_type = file.description;
-    info.workspace_region = file.region;
-    if (file.trajectory) {
-      info.time_start = file.trajectory->startTime();
-      info.time_end = file.trajectory->endTime();
-    }
-    domainPtr = file.domain;
+    domainPtr = trajectoryDomain(a.trajectory, domain::PoseCoordinates(), info);
   }
   const domain::Domain& target = *domainPtr;  // what is verified
   info.robot = a.robot;
