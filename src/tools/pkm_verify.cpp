@@ -90,11 +90,12 @@ void usageInput(std::ostream& os) {
         "                         the workspace's frame in the base frame: the reports' poses are in the base\n"
         "                         frame, the points in the workspace's variables in its frame); default: the robot\n"
         "                         file's only workspace, else the one named `paper`\n"
-        "  --trajectory FILE      (gough) verify every pose along a trajectory or motion variety instead of a "
-        "workspace\n"
-        "                         (YAML: waypoints [t, x, y, z, roll, pitch, yaw] with interpolation slerp or\n"
-        "                         linear_rpy, polynomial_segments, or variety; optional region and frame:\n"
-        "                         {translation, rpy} of the file's frame in the base frame; docs/trajectories.md);\n"
+        "  --trajectory FILE      verify every pose along a trajectory or motion variety instead of a workspace\n"
+        "                         (YAML in the robot's pose coordinates: waypoints [t, x, y, z, roll, pitch, yaw]\n"
+        "                         for gough, [t, x, y, z] for delta3, ..., with interpolation slerp or linear_rpy\n"
+        "                         (rigid-body pose) or linear (any type), polynomial_segments, or variety; optional\n"
+        "                         region and frame: {translation, rpy} of the file's frame in the base frame;\n"
+        "                         docs/trajectories.md);\n"
         "                         the reports add witness_t (s) and the undecided time intervals; their poses are\n"
         "                         in the base frame\n"
         "  --list-workspaces      print the workspaces of the robot file and exit\n"
@@ -447,9 +448,8 @@ void finishGoughArguments(Arguments& a) {
 /// The checks of the arguments of a robot of another type (its values per pose coordinate and error component are
 /// parsed once the robot, its dof and names, is known).
 void finishModelArguments(const Arguments& a) {
-  if (!a.trajectory.empty()) {
-    badArgument("--trajectory", "trajectories and motion varieties are verified for gough robots; " + a.robot +
-                                    " is a " + a.type + " (verify a workspace of it instead)");
+  if (!a.trajectory.empty() && !a.workspace.empty()) {
+    badArgument("--trajectory", "cannot be combined with --workspace (a run verifies a workspace or a trajectory)");
   }
   if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
 }
@@ -563,20 +563,35 @@ void listWorkspaces(const io::RobotFile& robot, const std::string& path) {
   }
 }
 
-/// Loads --trajectory (exit 3 with the file, key and row on any problem).
-io::TrajectoryFile loadTrajectory(const std::string& path) {
+/// Loads --trajectory in the robot's pose coordinates (exit 3 with the file, key and row on any problem).
+io::TrajectoryFile loadTrajectory(const std::string& path, const domain::PoseCoordinates& pose) {
   if (!isRegularFile(path)) {
     struct stat st;
     badArgument("--trajectory",
                 path + (::stat(path.c_str(), &st) == 0 ? ": not a regular file" : ": cannot open file"));
   }
   try {
-    return io::loadTrajectoryFile(path);
+    return io::loadTrajectoryFile(path, pose);
   } catch (const InvalidArgument& e) {
     badArgument("--trajectory", e.what());
   } catch (const std::exception& e) {
     badArgument("--trajectory", path + ": cannot read: " + e.what());
   }
+}
+
+/// The domain of --trajectory in the robot's pose coordinates; fills the trajectory's keys of the reports.
+std::shared_ptr<const domain::Domain> trajectoryDomain(const std::string& path, const domain::PoseCoordinates& pose,
+                                                       io::RunInfo& info) {
+  const io::TrajectoryFile file = loadTrajectory(path, pose);
+  info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
+  info.trajectory = path;
+  info.trajectory_type = file.description;
+  info.workspace_region = file.region;
+  if (file.trajectory) {
+    info.time_start = file.trajectory->startTime();
+    info.time_end = file.trajectory->endTime();
+  }
+  return file.domain;
 }
 
 /// --min-width for a trajectory or variety: one number >= 0 per parameter of the domain.
@@ -880,7 +895,7 @@ void describeModelRun(const io::ModelFile& file, const domain::Domain& target, c
   info.version = pkm_accuracy::version();
   info.robot = a.robot;
   info.robot_type = file.type;
-  info.workspace_region = "box";
+  if (a.trajectory.empty()) info.workspace_region = "box";
   info.workspace_box = target.initialBox();
   for (int i = 0; i < target.variables(); ++i) info.variables.push_back(target.variableName(i));
   info.components.clear();
@@ -910,7 +925,9 @@ void parseModelLists(Arguments& a, const model::RobotModel& model, const domain:
     badArgument("--thresholds", "required in verify mode: " + std::to_string(model.dof()) +
                                     " comma-separated values > 0, " + list + " (or use --mode max_error)");
   }
-  if (a.min_width_text) {
+  if (a.min_width_text && !a.trajectory.empty()) {
+    a.min_width = parseList("--min-width", *a.min_width_text, target);
+  } else if (a.min_width_text) {
     std::vector<std::string> names, units;
     for (int i = 0; i < target.variables(); ++i) {
       const std::string n = target.variableName(i);
@@ -936,7 +953,9 @@ int runModel(Arguments& a) {
   if (a.at_text) return printAt(model, a.robot, file.type, parsePose(*a.at_text, model, file.description));
 
   io::RunInfo info;
-  const std::shared_ptr<const domain::Domain> target = resolveModelWorkspace(file, a, info.workspace);
+  const std::shared_ptr<const domain::Domain> target =
+      a.trajectory.empty() ? resolveModelWorkspace(file, a, info.workspace)
+                           : trajectoryDomain(a.trajectory, domain::PoseCoordinates::of(file.description), info);
   describeModelRun(file, *target, a, info);
   parseModelLists(a, model, *target, info);
   return runAndReport(a, model, *target, info);
@@ -976,18 +995,7 @@ void applyGoughUncertainty(io::RobotFile& robot, double h) {
 /// What a gough run verifies: the workspace (in its frame, if it has one) or the trajectory / variety; fills the
 /// run info's description of it.
 std::shared_ptr<const domain::Domain> goughDomain(const io::RobotFile& robot, const Arguments& a, io::RunInfo& info) {
-  if (!a.trajectory.empty()) {
-    const io::TrajectoryFile file = loadTrajectory(a.trajectory);
-    info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
-    info.trajectory = a.trajectory;
-    info.trajectory_type = file.description;
-    info.workspace_region = file.region;
-    if (file.trajectory) {
-      info.time_start = file.trajectory->startTime();
-      info.time_end = file.trajectory->endTime();
-    }
-    return file.domain;
-  }
+  if (!a.trajectory.empty()) return trajectoryDomain(a.trajectory, domain::PoseCoordinates(), info);
   std::optional<domain::RigidTransform> frame;
   auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace, frame));
   info.workspace_region = workspace->region().typeName();

@@ -1236,13 +1236,85 @@ TEST_F(CliTest, PluginRobotTypeIsLoadedAndVerified) {
   EXPECT_NE(notPlugin.err.find("--plugin"), std::string::npos) << notPlugin.err;
 }
 
-TEST_F(CliTest, TrajectoriesOfOtherTypesAreRefusedByName) {
-  const RunResult r =
-      run({"--robot", kSource + "/config/delta3.yaml", "--trajectory", kSource + "/config/trajectory_example.yaml"});
-  EXPECT_EQ(r.code, 3);
-  EXPECT_NE(r.err.find("--trajectory: trajectories and motion varieties are verified for gough robots"),
+TEST_F(CliTest, Delta3TrajectoryInItsPoseCoordinates) {
+  const std::string robot = kSource + "/config/delta3.yaml";
+  const std::string traj = kSource + "/config/delta3_trajectory.yaml";
+  const pkm_accuracy::io::ModelFile file = pkm_accuracy::io::loadModelFile(robot);
+  // The oracle: the rows [t, x, y, z] read by yaml-cpp, interpolated linearly here; the model's worst error in double
+  // at 20001 times.
+  std::vector<std::vector<double>> rows;
+  for (const auto& row : YAML::LoadFile(traj)["waypoints"]) rows.push_back(row.as<std::vector<double>>());
+  ASSERT_GE(rows.size(), 2u);
+  const double t0 = rows.front()[0], t1 = rows.back()[0];
+  auto poseAt = [&](double t) {
+    std::size_t k = 0;
+    while (k + 2 < rows.size() && t > rows[k + 1][0]) ++k;
+    const double s = std::min(1.0, std::max(0.0, (t - rows[k][0]) / (rows[k + 1][0] - rows[k][0])));
+    DVec q(3);
+    for (int i = 0; i < 3; ++i) q[i] = rows[k][i + 1] + s * (rows[k + 1][i + 1] - rows[k][i + 1]);
+    return q;
+  };
+  std::vector<double> sampled(3, 0.0);
+  for (int i = 0; i <= 20000; ++i) {
+    const DVec f = file.model->worstErrorAt(poseAt(t0 + (t1 - t0) * i / 20000));
+    for (int k = 0; k < 3; ++k) sampled[k] = std::max(sampled[k], f[k]);
+  }
+  auto list = [](const std::vector<double>& v, double f) {
+    char text[128];
+    std::snprintf(text, sizeof text, "%.17g,%.17g,%.17g", f * v[0], f * v[1], f * v[2]);
+    return std::string(text);
+  };
+  // 5% above the sampled maxima: SAFE.
+  const Json safe = runJson({"--robot", robot, "--trajectory", traj, "--thresholds", list(sampled, 1.05)}, 0);
+  EXPECT_EQ(safe["verdict"].str(), "SAFE");
+  EXPECT_EQ(safe["robot_type"].str(), "delta3");
+  EXPECT_EQ(safe["domain"].str(), "trajectory");
+  EXPECT_EQ(safe["trajectory_type"].str(), "waypoints (linear), 4 waypoints");
+  EXPECT_EQ(safe["time_span"].numbers(), (std::vector<double>{t0, t1}));
+  // 5% below: UNSAFE, the witness a pose of the trajectory (x, y, z) at witness_t whose error exceeds the threshold.
+  const Json unsafe = runJson({"--robot", robot, "--trajectory", traj, "--thresholds", list(sampled, 0.95)}, 1);
+  EXPECT_EQ(unsafe["verdict"].str(), "UNSAFE");
+  const double t = unsafe["witness_t"].num();
+  const std::vector<double> witness = unsafe["witness"].numbers();
+  ASSERT_EQ(witness.size(), 3u);
+  const DVec expected = poseAt(t);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(witness[i], expected[i], 1e-9) << i;
+  const int k = static_cast<int>(unsafe["witness_component"].num());
+  ASSERT_GE(k, 0);
+  ASSERT_LT(k, 3);
+  EXPECT_GT(file.model->worstErrorAt(expected)[k], 0.95 * sampled[k]);
+  // max-error: the bracket contains the sampled maxima.
+  const Json mx = runJson({"--robot", robot, "--trajectory", traj, "--mode", "max-error"}, 0);
+  const auto lower = mx["max_error"]["lower"].numbers(), upper = mx["max_error"]["upper"].numbers();
+  ASSERT_EQ(upper.size(), 3u);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_GE(upper[c], sampled[c]) << c;
+    EXPECT_LE(lower[c], sampled[c] * (1.0 + 1e-6)) << c;
+  }
+  // The rigid-body example file is not a delta3 trajectory: its slerp is refused naming the type's coordinates, and
+  // rows of 7 numbers naming the row and the expected columns.
+  const RunResult rigid = run({"--robot", robot, "--trajectory", kSource + "/config/trajectory_example.yaml"});
+  EXPECT_EQ(rigid.code, 3);
+  EXPECT_NE(rigid.err.find("--trajectory: " + kSource +
+                           "/config/trajectory_example.yaml: interpolation: slerp "
+                           "interpolates the orientation of the rigid-body pose (x, y, z, roll, pitch, yaw); delta3 "
+                           "has the pose coordinates (x, y, z)"),
             std::string::npos)
-      << r.err;
+      << rigid.err;
+  {
+    std::ofstream f(path("rows7.yaml"));
+    f << "waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, 0, 0.48, 0, 0, 0]\n";
+  }
+  const RunResult seven = run({"--robot", robot, "--trajectory", path("rows7.yaml")});
+  EXPECT_EQ(seven.code, 3);
+  EXPECT_NE(seven.err.find("--trajectory: " + path("rows7.yaml") +
+                           ": waypoints[0]: expected 4 numbers [t, x, y, z] (a time and the 3 pose coordinates of "
+                           "delta3), got 7"),
+            std::string::npos)
+      << seven.err;
+  const RunResult both = run({"--robot", robot, "--trajectory", traj, "--workspace", "reference"});
+  EXPECT_EQ(both.code, 3);
+  EXPECT_NE(both.err.find("--trajectory: cannot be combined with --workspace"), std::string::npos) << both.err;
 }
 
 TEST_F(CliTest, OtherTypesListWorkspacesReadWorkspaceFilesAndTakeUncertainty) {

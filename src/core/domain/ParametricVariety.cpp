@@ -10,21 +10,37 @@ namespace pkm_accuracy {
 namespace domain {
 namespace {
 
-const char* kKeys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
 const char* kParameters[6] = {"u", "v", "w", "u4", "u5", "u6"};
 
 }  // namespace
 
-ParametricVariety::ParametricVariety(int m, std::array<std::vector<Monomial>, 6> coordinates)
-    : m_(m), coordinates_(std::move(coordinates)) {
+ParametricVariety::ParametricVariety(int m, std::array<std::vector<Monomial>, kMaxDof> coordinates)
+    : ParametricVariety(m, std::move(coordinates), PoseCoordinates()) {}
+
+ParametricVariety::ParametricVariety(int m, std::array<std::vector<Monomial>, kMaxDof> coordinates,
+                                     PoseCoordinates pose)
+    : m_(m), coordinates_(std::move(coordinates)), pose_(std::move(pose)) {
   if (m < 1 || m > kMaxDof) {
     throw InvalidArgument("variety parameters: expected 1 to " + std::to_string(kMaxDof) + ", got " +
                           std::to_string(m));
   }
-  for (int i = 0; i < 6; ++i) {
+  checkMonomials();
+  initial_.resize(m);
+  for (int i = 0; i < m; ++i) initial_[i] = Interval(0.0, 1.0);
+}
+
+void ParametricVariety::checkMonomials() {
+  const int n = pose_.size();
+  for (int i = n; i < kMaxDof; ++i) {
+    if (!coordinates_[i].empty()) {
+      throw InvalidArgument("variety: expected monomials for " + std::to_string(n) + " pose coordinates (" +
+                            pose_.names() + ") of " + pose_.type() + ", got some for coordinate " + std::to_string(i));
+    }
+  }
+  for (int i = 0; i < n; ++i) {
     for (std::size_t j = 0; j < coordinates_[i].size(); ++j) {
       const Monomial& mono = coordinates_[i][j];
-      const std::string where = std::string("variety.") + kKeys[i] + "[" + std::to_string(j) + "]";
+      const std::string where = "variety." + pose_.name(i) + "[" + std::to_string(j) + "]";
       if (!std::isfinite(mono.coefficient)) {
         std::ostringstream os;
         os << where << ": expected a finite coefficient, got " << mono.coefficient;
@@ -32,16 +48,23 @@ ParametricVariety::ParametricVariety(int m, std::array<std::vector<Monomial>, 6>
       }
       for (int v = 0; v < kMaxDof; ++v) {
         const int e = mono.exponents[v];
-        if (e < 0 || e > kMaxExponent || (v >= m && e != 0)) {
+        if (e < 0 || e > kMaxExponent || (v >= m_ && e != 0)) {
           throw InvalidArgument(where + ": exponent of parameter " + std::to_string(v) + ": expected 0 to " +
-                                std::to_string(v < m ? kMaxExponent : 0) + ", got " + std::to_string(e));
+                                std::to_string(v < m_ ? kMaxExponent : 0) + ", got " + std::to_string(e));
         }
         maxExponent_ = std::max(maxExponent_, e);
       }
     }
   }
-  initial_.resize(m);
-  for (int i = 0; i < m; ++i) initial_[i] = Interval(0.0, 1.0);
+}
+
+void ParametricVariety::setRegion(PositionRegion region) {
+  const std::array<int, 3> xyz = pose_.positionIndices();
+  if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) {
+    throw InvalidArgument("region: a position region needs the pose coordinates x, y, z; " + pose_.describe());
+  }
+  position_ = xyz;
+  region_ = std::move(region);
 }
 
 std::string ParametricVariety::variableName(int i) const { return i >= 0 && i < m_ ? kParameters[i] : "?"; }
@@ -62,7 +85,7 @@ void ParametricVariety::evaluate(const std::array<D, kMaxDof>& vars, std::array<
     powers[v][0] = D(T(1.0));
     for (int e = 1; e <= maxExponent_; ++e) powers[v][e] = powers[v][e - 1] * vars[v];
   }
-  for (int i = 0; i < 6; ++i) {
+  for (int i = 0; i < pose_.size(); ++i) {
     D sum(T(0.0));
     for (const Monomial& mono : coordinates_[i]) {
       D term(T(mono.coefficient));
@@ -78,10 +101,12 @@ void ParametricVariety::poseView(const IVec& box, bool gradient, enclosure::BoxI
   std::array<DualI, kMaxDof> vars;
   for (int v = 0; v < m_; ++v) vars[v] = DualI::variable(intersect(box[v], Interval(0.0, 1.0)), v);
   evaluate(vars, out.dualPose);
+  const int n = pose_.size();
+  for (int i = n; i < kMaxDof; ++i) out.dualPose[i] = DualI(Interval(0.0));
   out.variables = m_;
   out.hasGradient = gradient;
-  out.pose.resize(kMaxDof);
-  for (int i = 0; i < kMaxDof; ++i) out.pose[i] = out.dualPose[i].value();
+  out.pose.resize(n);
+  for (int i = 0; i < n; ++i) out.pose[i] = out.dualPose[i].value();
   IVec centre(m_);
   out.deviation.resize(m_);
   for (int v = 0; v < m_; ++v) {
@@ -97,15 +122,15 @@ IVec ParametricVariety::values(const IVec& box) const {
   std::array<ValueDual, kMaxDof> vars, pose;
   for (int v = 0; v < m_; ++v) vars[v] = ValueDual(intersect(box[v], Interval(0.0, 1.0)));
   evaluate(vars, pose);
-  IVec p(kMaxDof);
-  for (int i = 0; i < kMaxDof; ++i) p[i] = pose[i].value();
+  IVec p(pose_.size());
+  for (int i = 0; i < pose_.size(); ++i) p[i] = pose[i].value();
   return p;
 }
 
 Containment ParametricVariety::classify(const IVec& box) const {
   if (!region_) return Containment::Inside;
   const IVec p = values(box);
-  return region_->classify(p[0], p[1], p[2]);
+  return region_->classify(p[position_[0]], p[position_[1]], p[position_[2]]);
 }
 
 IVec ParametricVariety::poseAt(const DVec& t) const {
@@ -119,9 +144,9 @@ void ParametricVariety::pointAt(const DVec& t, DVec& pose, DMat& jacobian) const
   std::array<DualD, kMaxDof> vars, out;
   for (int v = 0; v < m_; ++v) vars[v] = DualD::variable(t[v], v);
   evaluate(vars, out);
-  pose.resize(kMaxDof);
-  jacobian.resize(kMaxDof, m_);
-  for (int i = 0; i < kMaxDof; ++i) {
+  pose.resize(pose_.size());
+  jacobian.resize(pose_.size(), m_);
+  for (int i = 0; i < pose_.size(); ++i) {
     pose[i] = out[i].value();
     for (int v = 0; v < m_; ++v) jacobian(i, v) = out[i].d(v);
   }

@@ -21,7 +21,8 @@ TimeDualI hullOf(const TimeDualI& a, const TimeDualI& b) {
 
 }  // namespace
 
-PiecewiseTrajectory::PiecewiseTrajectory(std::vector<double> times) : times_(std::move(times)) {
+PiecewiseTrajectory::PiecewiseTrajectory(std::vector<double> times, PoseCoordinates pose)
+    : times_(std::move(times)), pose_(std::move(pose)) {
   if (times_.size() < 2) throw InvalidArgument("trajectory: expected at least 2 segment boundaries");
   for (std::size_t i = 0; i < times_.size(); ++i) {
     if (!std::isfinite(times_[i]) || (i > 0 && !(times_[i] > times_[i - 1]))) {
@@ -37,6 +38,15 @@ PiecewiseTrajectory::PiecewiseTrajectory(std::vector<double> times) : times_(std
 }
 
 std::string PiecewiseTrajectory::variableName(int i) const { return i == 0 ? "u" : "?"; }
+
+void PiecewiseTrajectory::setRegion(PositionRegion region) {
+  const std::array<int, 3> xyz = pose_.positionIndices();
+  if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) {
+    throw InvalidArgument("region: a position region needs the pose coordinates x, y, z; " + pose_.describe());
+  }
+  position_ = xyz;
+  region_ = std::move(region);
+}
 
 double PiecewiseTrajectory::timeOf(double u) const {
   const double t = times_.front() + u * (times_.back() - times_.front());
@@ -83,11 +93,12 @@ void PiecewiseTrajectory::piece(int k, const Interval& T, PoseDualI& out) const 
 IVec PiecewiseTrajectory::poseHull(const Interval& T) const {
   int first, last;
   segmentRange(T, first, last);
-  IVec p(kMaxDof);
+  const int n = poseDimension();
+  IVec p(n);
   PoseDualI q;
   for (int k = first; k <= last; ++k) {
     piece(k, T, q);
-    for (int i = 0; i < kMaxDof; ++i) p[i] = k == first ? q[i].value() : hull(p[i], q[i].value());
+    for (int i = 0; i < n; ++i) p[i] = k == first ? q[i].value() : hull(p[i], q[i].value());
   }
   return p;
 }
@@ -97,26 +108,28 @@ void PiecewiseTrajectory::poseView(const IVec& box, bool gradient, enclosure::Bo
   const Interval T = timeEnclosure(U);
   int first, last;
   segmentRange(T, first, last);
+  const int n = poseDimension();
   PoseDualI acc, q;
   for (int k = first; k <= last; ++k) {
     piece(k, T, q);
-    for (int i = 0; i < kMaxDof; ++i) acc[i] = k == first ? q[i] : hullOf(acc[i], q[i]);
+    for (int i = 0; i < n; ++i) acc[i] = k == first ? q[i] : hullOf(acc[i], q[i]);
   }
   out.variables = 1;
   out.hasGradient = gradient;
-  out.pose.resize(kMaxDof);
-  out.centrePose.resize(kMaxDof);
+  out.pose.resize(n);
+  out.centrePose.resize(n);
   out.deviation.resize(1);
-  for (int i = 0; i < kMaxDof; ++i) {
+  for (int i = 0; i < n; ++i) {
     out.pose[i] = acc[i].value();
     out.dualPose[i] = DualI(acc[i].value());
     out.dualPose[i].d(0) = acc[i].d(0);
   }
+  for (int i = n; i < kMaxDof; ++i) out.dualPose[i] = DualI(Interval(0.0));
   if (first == last) {
     // One segment: expand around the centre of the box.
     const double c = U.mid();
     piece(first, timeEnclosure(Interval(c)), q);
-    for (int i = 0; i < kMaxDof; ++i) out.centrePose[i] = q[i].value();
+    for (int i = 0; i < n; ++i) out.centrePose[i] = q[i].value();
     out.deviation[0] = U - Interval(c);
     return;
   }
@@ -127,7 +140,7 @@ void PiecewiseTrajectory::poseView(const IVec& box, bool gradient, enclosure::Bo
     PoseDualI left, right;
     piece(b - 1, tb, left);
     piece(b, tb, right);
-    for (int i = 0; i < kMaxDof; ++i) {
+    for (int i = 0; i < n; ++i) {
       const Interval both = hull(left[i].value(), right[i].value());
       out.centrePose[i] = b == first + 1 ? both : hull(out.centrePose[i], both);
     }
@@ -139,7 +152,7 @@ void PiecewiseTrajectory::poseView(const IVec& box, bool gradient, enclosure::Bo
 Containment PiecewiseTrajectory::classify(const IVec& box) const {
   if (!region_) return Containment::Inside;
   const IVec p = poseHull(timeEnclosure(box[0]));
-  return region_->classify(p[0], p[1], p[2]);
+  return region_->classify(p[position_[0]], p[position_[1]], p[position_[2]]);
 }
 
 IVec PiecewiseTrajectory::poseAt(const DVec& t) const { return poseHull(timeEnclosure(Interval(t[0]))); }
@@ -159,11 +172,12 @@ PiecewiseTrajectory::PointPose PiecewiseTrajectory::pointAtTime(double t) const 
   k = std::min(std::max(k, 0), segments() - 1);
   PoseDualD q;
   segmentPose(k, TimeDualD::variable(t, 0), q);
+  const int n = poseDimension();
   PointPose p;
   p.segment = k;
-  p.pose.resize(kMaxDof);
-  p.velocity.resize(kMaxDof);
-  for (int i = 0; i < kMaxDof; ++i) {
+  p.pose.resize(n);
+  p.velocity.resize(n);
+  for (int i = 0; i < n; ++i) {
     p.pose[i] = q[i].value();
     p.velocity[i] = q[i].d(0);
   }

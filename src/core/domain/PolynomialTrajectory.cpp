@@ -9,13 +9,33 @@
 
 namespace pkm_accuracy {
 namespace domain {
-namespace {
 
-const char* kKeys[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+void PolynomialTrajectory::checkCoefficients(const Segment& s, const std::string& where, const PoseCoordinates& pose) {
+  const int n = pose.size();
+  for (int i = n; i < kMaxDof; ++i) {
+    if (!s.coefficients[i].empty()) {
+      throw InvalidArgument(where + ": expected " + std::to_string(n) + " coordinate polynomials (" + pose.names() +
+                            ") for " + pose.type() + ", got one for coordinate " + std::to_string(i));
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const auto& c = s.coefficients[i];
+    const std::string key = where + "." + pose.name(i);
+    if (c.empty() || static_cast<int>(c.size()) > kMaxDegree + 1) {
+      throw InvalidArgument(key + ": expected 1 to " + std::to_string(kMaxDegree + 1) + " coefficients, got " +
+                            std::to_string(c.size()));
+    }
+    for (std::size_t j = 0; j < c.size(); ++j) {
+      if (!std::isfinite(c[j])) {
+        std::ostringstream os;
+        os << key << "[" << j << "]: expected a finite number, got " << c[j];
+        throw InvalidArgument(os.str());
+      }
+    }
+  }
+}
 
-}  // namespace
-
-std::vector<double> PolynomialTrajectory::timesOf(const std::vector<Segment>& segments) {
+std::vector<double> PolynomialTrajectory::timesOf(const std::vector<Segment>& segments, const PoseCoordinates& pose) {
   if (segments.empty()) throw InvalidArgument("polynomial_segments: expected at least one segment, got none");
   std::vector<double> times;
   for (std::size_t k = 0; k < segments.size(); ++k) {
@@ -33,20 +53,7 @@ std::vector<double> PolynomialTrajectory::timesOf(const std::vector<Segment>& se
          << " s), got " << s.start << " s";
       throw InvalidArgument(os.str());
     }
-    for (int i = 0; i < 6; ++i) {
-      const auto& c = s.coefficients[i];
-      if (c.empty() || static_cast<int>(c.size()) > kMaxDegree + 1) {
-        throw InvalidArgument(where + "." + kKeys[i] + ": expected 1 to " + std::to_string(kMaxDegree + 1) +
-                              " coefficients, got " + std::to_string(c.size()));
-      }
-      for (std::size_t j = 0; j < c.size(); ++j) {
-        if (!std::isfinite(c[j])) {
-          std::ostringstream os;
-          os << where << "." << kKeys[i] << "[" << j << "]: expected a finite number, got " << c[j];
-          throw InvalidArgument(os.str());
-        }
-      }
-    }
+    checkCoefficients(s, where, pose);
     times.push_back(s.start);
   }
   times.push_back(segments.back().end);
@@ -54,7 +61,10 @@ std::vector<double> PolynomialTrajectory::timesOf(const std::vector<Segment>& se
 }
 
 PolynomialTrajectory::PolynomialTrajectory(std::vector<Segment> segments)
-    : PiecewiseTrajectory(timesOf(segments)), segments_(std::move(segments)) {}
+    : PolynomialTrajectory(std::move(segments), PoseCoordinates()) {}
+
+PolynomialTrajectory::PolynomialTrajectory(std::vector<Segment> segments, PoseCoordinates pose)
+    : PiecewiseTrajectory(timesOf(segments, pose), pose), segments_(std::move(segments)) {}
 
 std::string PolynomialTrajectory::description() const {
   int degree = 0;
@@ -79,7 +89,7 @@ void PolynomialTrajectory::evaluate(int k, const D& t, std::array<D, kMaxDof>& o
       tau = clipped;
     }
   }
-  for (int i = 0; i < 6; ++i) {
+  for (int i = 0; i < poseDimension(); ++i) {
     const auto& c = g.coefficients[i];
     D p(T(c.back()));
     for (int j = static_cast<int>(c.size()) - 2; j >= 0; --j) p = p * tau + T(c[j]);

@@ -63,6 +63,12 @@ RigidTransform RigidTransform::fromTranslationRpy(const Eigen::Vector3d& transla
 TransformedDomain::TransformedDomain(std::shared_ptr<const Domain> inner, const RigidTransform& base_from_frame)
     : inner_(std::move(inner)), translation_(base_from_frame.translation) {
   if (!inner_) throw InvalidArgument("transformed domain: expected a domain, got none (null)");
+  if (inner_->poseDimension() != 6) {
+    throw InvalidArgument(
+        "transformed domain: expected a domain of rigid-body poses (x, y, z, roll, pitch, yaw), got "
+        "one of " +
+        std::to_string(inner_->poseDimension()) + " pose coordinates");
+  }
   const Eigen::Matrix3d& r = base_from_frame.rotation;
   if (!translation_.allFinite()) {
     std::ostringstream os;

@@ -41,26 +41,45 @@ std::array<std::array<S, 3>, 3> crossMatrix(const Eigen::Vector3d& u) {
   return {{{S(0.0), S(-u.z()), S(u.y())}, {S(u.z()), S(0.0), S(-u.x())}, {S(-u.y()), S(u.x()), S(0.0)}}};
 }
 
-const char* kColumns[7] = {"t", "x", "y", "z", "roll", "pitch", "yaw"};
+/// Name of column k of a waypoint row [t, q_1 .. q_n].
+std::string columnName(int k, const PoseCoordinates& pose) { return k == 0 ? "t" : pose.name(k - 1); }
 
 }  // namespace
 
-std::string WaypointTrajectory::interpolationName(Interpolation i) {
-  return i == Interpolation::Slerp ? "slerp" : "linear_rpy";
+std::string WaypointTrajectory::interpolationName(Interpolation i, const PoseCoordinates& pose) {
+  if (i == Interpolation::Slerp) return "slerp";
+  return pose.rigidBody() ? "linear_rpy" : "linear";
 }
 
-std::vector<double> WaypointTrajectory::timesOf(const std::vector<Waypoint>& waypoints) {
+std::vector<double> WaypointTrajectory::timesOf(const std::vector<Waypoint>& waypoints, Interpolation interpolation,
+                                                const PoseCoordinates& pose) {
+  if (interpolation == Interpolation::Slerp && !pose.rigidBody()) {
+    throw InvalidArgument(
+        "interpolation: slerp interpolates orientations of the rigid-body pose (x, y, z, roll, "
+        "pitch, yaw); " +
+        pose.describe() + ": use linear");
+  }
   if (waypoints.size() < 2) {
     throw InvalidArgument("waypoints: expected at least 2 waypoints, got " + std::to_string(waypoints.size()));
   }
+  const int n = pose.size();
   std::vector<double> times;
   for (std::size_t i = 0; i < waypoints.size(); ++i) {
     const Waypoint& w = waypoints[i];
-    for (int k = 0; k < 7; ++k) {
+    for (int k = 0; k <= n; ++k) {
       const double v = k == 0 ? w.t : w.pose[k - 1];
       if (!std::isfinite(v)) {
         std::ostringstream os;
-        os << "waypoints[" << i << "][" << k << "] (" << kColumns[k] << "): expected a finite number, got " << v;
+        os << "waypoints[" << i << "][" << k << "] (" << columnName(k, pose) << "): expected a finite number, got "
+           << v;
+        throw InvalidArgument(os.str());
+      }
+    }
+    for (int k = n; k < kMaxDof; ++k) {
+      if (w.pose[k] != 0.0) {
+        std::ostringstream os;
+        os << "waypoints[" << i << "]: pose entry " << k << " is beyond the " << n << " pose coordinates ("
+           << pose.names() << ") of " << pose.type() << ": expected 0, got " << w.pose[k];
         throw InvalidArgument(os.str());
       }
     }
@@ -76,52 +95,59 @@ std::vector<double> WaypointTrajectory::timesOf(const std::vector<Waypoint>& way
 }
 
 WaypointTrajectory::WaypointTrajectory(std::vector<Waypoint> waypoints, Interpolation interpolation)
-    : PiecewiseTrajectory(timesOf(waypoints)), waypoints_(std::move(waypoints)), interpolation_(interpolation) {
+    : WaypointTrajectory(std::move(waypoints), interpolation, PoseCoordinates()) {}
+
+WaypointTrajectory::WaypointTrajectory(std::vector<Waypoint> waypoints, Interpolation interpolation,
+                                       PoseCoordinates pose)
+    : PiecewiseTrajectory(timesOf(waypoints, interpolation, pose), pose),
+      waypoints_(std::move(waypoints)),
+      interpolation_(interpolation) {
   // (~0.8 KB per segment: reserved, so that a long trajectory is not held twice while the vector grows.)
   if (!waypoints_.empty()) segments_.reserve(waypoints_.size() - 1);
-  for (std::size_t k = 0; k + 1 < waypoints_.size(); ++k) {
-    const Waypoint& a = waypoints_[k];
-    const Waypoint& b = waypoints_[k + 1];
-    Segment g;
-    g.ta = a.t;
-    g.h = Interval(b.t) - Interval(a.t);
-    g.a = a.pose;
-    for (int i = 0; i < 6; ++i) g.delta[i] = Interval(b.pose[i]) - Interval(a.pose[i]);
-    if (interpolation_ == Interpolation::Slerp) {
-      g.constantOrientation = a.pose[3] == b.pose[3] && a.pose[4] == b.pose[4] && a.pose[5] == b.pose[5];
-      const Mat3D ra = rotationRpy<double>(a.pose[3], a.pose[4], a.pose[5]);
-      const Mat3D rb = rotationRpy<double>(b.pose[3], b.pose[4], b.pose[5]);
-      Eigen::Matrix3d ma, mb;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          ma(i, j) = ra[i][j];
-          mb(i, j) = rb[i][j];
-        }
-      const Eigen::AngleAxisd rel(Eigen::Matrix3d(ma.transpose() * mb));
-      g.phi = rel.angle();
-      Eigen::Vector3d axis = rel.axis();
-      if (!(g.phi > 0.0) || !axis.allFinite() || axis.norm() == 0.0) {
-        // Equal rotations (up to rounding): keep rpy_a; the rotation of rpy_b is within ~1e-16 rad of it.
-        g.constantOrientation = true;
-        g.phi = 0.0;
-        axis = Eigen::Vector3d::UnitZ();
+  for (std::size_t k = 0; k + 1 < waypoints_.size(); ++k) addSegment(waypoints_[k], waypoints_[k + 1]);
+}
+
+void WaypointTrajectory::addSegment(const Waypoint& a, const Waypoint& b) {
+  Segment g;
+  g.ta = a.t;
+  g.h = Interval(b.t) - Interval(a.t);
+  g.a = a.pose;
+  for (int i = 0; i < poseDimension(); ++i) g.delta[i] = Interval(b.pose[i]) - Interval(a.pose[i]);
+  if (interpolation_ == Interpolation::Slerp) {
+    g.constantOrientation = a.pose[3] == b.pose[3] && a.pose[4] == b.pose[4] && a.pose[5] == b.pose[5];
+    const Mat3D ra = rotationRpy<double>(a.pose[3], a.pose[4], a.pose[5]);
+    const Mat3D rb = rotationRpy<double>(b.pose[3], b.pose[4], b.pose[5]);
+    Eigen::Matrix3d ma, mb;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        ma(i, j) = ra[i][j];
+        mb(i, j) = rb[i][j];
       }
-      axis.normalize();
-      g.r = rotationRpy<Interval>(Interval(a.pose[3]), Interval(a.pose[4]), Interval(a.pose[5]));
-      const Mat3I k1 = crossMatrix<Interval>(axis);
-      g.ka = product(g.r, k1);
-      g.kka = product(g.ka, k1);
-      g.rd = ra;
-      const Mat3D k1d = crossMatrix<double>(axis);
-      g.kad = product(g.rd, k1d);
-      g.kkad = product(g.kad, k1d);
+    const Eigen::AngleAxisd rel(Eigen::Matrix3d(ma.transpose() * mb));
+    g.phi = rel.angle();
+    Eigen::Vector3d axis = rel.axis();
+    if (!(g.phi > 0.0) || !axis.allFinite() || axis.norm() == 0.0) {
+      // Equal rotations (up to rounding): keep rpy_a; the rotation of rpy_b is within ~1e-16 rad of it.
+      g.constantOrientation = true;
+      g.phi = 0.0;
+      axis = Eigen::Vector3d::UnitZ();
     }
-    segments_.push_back(g);
+    axis.normalize();
+    g.r = rotationRpy<Interval>(Interval(a.pose[3]), Interval(a.pose[4]), Interval(a.pose[5]));
+    const Mat3I k1 = crossMatrix<Interval>(axis);
+    g.ka = product(g.r, k1);
+    g.kka = product(g.ka, k1);
+    g.rd = ra;
+    const Mat3D k1d = crossMatrix<double>(axis);
+    g.kad = product(g.rd, k1d);
+    g.kkad = product(g.kad, k1d);
   }
+  segments_.push_back(g);
 }
 
 std::string WaypointTrajectory::description() const {
-  return "waypoints (" + interpolationName(interpolation_) + "), " + std::to_string(waypoints_.size()) + " waypoints";
+  return "waypoints (" + interpolationName(interpolation_, poseCoordinates()) + "), " +
+         std::to_string(waypoints_.size()) + " waypoints";
 }
 
 template <typename D>
@@ -145,11 +171,12 @@ void WaypointTrajectory::evaluate(int k, const D& t, std::array<D, kMaxDof>& out
       return g.delta[i].mid();
     }
   };
-  for (int i = 0; i < 3; ++i) out[i] = s * delta(i) + T(g.a[i]);
-  if (interpolation_ == Interpolation::LinearRpy) {
-    for (int i = 3; i < 6; ++i) out[i] = s * delta(i) + T(g.a[i]);
+  if (interpolation_ == Interpolation::Linear) {
+    for (int i = 0; i < poseDimension(); ++i) out[i] = s * delta(i) + T(g.a[i]);
     return;
   }
+  // Slerp (rigid-body pose): linear position, geodesic orientation.
+  for (int i = 0; i < 3; ++i) out[i] = s * delta(i) + T(g.a[i]);
   if (g.constantOrientation) {
     for (int i = 3; i < 6; ++i) out[i] = D(T(g.a[i]));
     return;

@@ -22,6 +22,8 @@ void Verifier::validate(const model::RobotModel& model, const domain::Domain& do
   const int n = model.dof();
   const int m = domain.variables();
   require(m >= 1 && m <= kMaxDof, "domain: expected 1 to 6 variables, got " + std::to_string(m));
+  require(domain.poseDimension() == n, "domain: expected poses of " + std::to_string(n) + " coordinates (the dof of " +
+                                           model.name() + "), got " + std::to_string(domain.poseDimension()));
   if (o.mode == Mode::Verify || o.thresholds.size() > 0) {
     require(o.thresholds.size() == n, "thresholds: expected " + std::to_string(n) +
                                           " values (one per component), got " + std::to_string(o.thresholds.size()));

@@ -1,6 +1,7 @@
 // Base of the one-parameter trajectory domains (WaypointTrajectory, PolynomialTrajectory): a pose defined piecewise
 // on consecutive time segments [t_k, t_k+1] (k = 0 .. segments - 1), explored by the verifier through a single box
-// variable u in [0, 1] with t(u) = t_0 + u (t_N - t_0) (real arithmetic; enclosed rigorously).
+// variable u in [0, 1] with t(u) = t_0 + u (t_N - t_0) (real arithmetic; enclosed rigorously). The poses are in the
+// pose coordinates of a robot type (PoseCoordinates: n = its dof coordinates, in the order of its description).
 //
 // What is certified: every pose of every segment at every time of its closed segment. At a segment boundary both
 // one-sided poses (the end of segment k-1 and the start of segment k) belong to the trajectory; they coincide for a
@@ -18,8 +19,9 @@
 //     segment), and u - u_b lies in the deviation.
 // The mean-value enclosure therefore never differentiates across a segment boundary.
 //
-// classify(): Inside everywhere, or, with a position region, Inside / Outside / Partial from the position enclosure
-// of the box (the parts of the trajectory outside the region are then not verified, as for a workspace).
+// classify(): Inside everywhere, or, with a position region, Inside / Outside / Partial from the enclosure of the
+// coordinates x, y, z over the box (the parts of the trajectory outside the region are then not verified, as for a
+// workspace; only for pose coordinates that include x, y and z).
 #pragma once
 
 #include <array>
@@ -29,6 +31,7 @@
 
 #include "pkm_accuracy/core/Types.hpp"
 #include "pkm_accuracy/core/domain/Domain.hpp"
+#include "pkm_accuracy/core/domain/PoseCoordinates.hpp"
 #include "pkm_accuracy/core/domain/PositionRegion.hpp"
 #include "pkm_accuracy/core/interval/Dual.hpp"
 
@@ -45,12 +48,15 @@ class PiecewiseTrajectory : public Domain {
 
   /// A point of the trajectory in double (not certified): the pose and its derivative with respect to time.
   struct PointPose {
-    DVec pose;      ///< x, y, z (m), roll, pitch, yaw (rad)
+    DVec pose;      ///< the n pose coordinates
     DVec velocity;  ///< d pose / dt (per second)
     int segment = 0;
   };
 
   int variables() const override { return 1; }
+  int poseDimension() const override { return pose_.size(); }
+  /// The robot type and pose coordinates the poses are given in.
+  const PoseCoordinates& poseCoordinates() const { return pose_; }
   std::string variableName(int i) const override;
   const IVec& initialBox() const override { return initial_; }
   void poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const override;
@@ -80,7 +86,8 @@ class PiecewiseTrajectory : public Domain {
   PointPose pointAt(double u) const;
 
   // ---- optional position region ----------------------------------------------------------------------------------
-  void setRegion(PositionRegion region) { region_ = std::move(region); }
+  /// @throws InvalidArgument if the pose coordinates lack x, y or z (the message names the type and its coordinates).
+  void setRegion(PositionRegion region);
   const std::optional<PositionRegion>& region() const { return region_; }
 
   /// Short description for reports, e.g. "waypoints (slerp), 12 waypoints".
@@ -88,10 +95,12 @@ class PiecewiseTrajectory : public Domain {
 
  protected:
   /// @param times the segment boundaries (validated by the subclass: finite, strictly increasing, >= 2 values).
-  explicit PiecewiseTrajectory(std::vector<double> times);
+  /// @param pose the pose coordinates (the subclass fills the first pose.size() entries of a pose).
+  PiecewiseTrajectory(std::vector<double> times, PoseCoordinates pose);
 
   /// Pose of segment k over the times `t` (value: an enclosure of times inside [t_k, t_k+1]; derivative: dt/dvar),
-  /// for every coordinate: value and derivative with respect to the same variable.
+  /// for every coordinate (the first poseDimension() entries): value and derivative with respect to the same
+  /// variable.
   virtual void segmentPose(int k, const TimeDualI& t, PoseDualI& out) const = 0;
   /// The same at a point in double (Dual<double> rules; not certified).
   virtual void segmentPose(int k, const TimeDualD& t, PoseDualD& out) const = 0;
@@ -105,7 +114,9 @@ class PiecewiseTrajectory : public Domain {
   IVec poseHull(const Interval& T) const;
 
   std::vector<double> times_;
-  Interval span_;  ///< t_N - t_0 (enclosure)
+  PoseCoordinates pose_;
+  std::array<int, 3> position_{};  ///< indices of x, y, z among the pose coordinates (with a region)
+  Interval span_;                  ///< t_N - t_0 (enclosure)
   IVec initial_;
   std::optional<PositionRegion> region_;
 };

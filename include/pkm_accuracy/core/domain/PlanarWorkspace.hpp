@@ -23,6 +23,7 @@ class PlanarWorkspace final : public Domain {
   static PlanarWorkspace disc(const Eigen::Vector2d& centre, double radius, const Interval& theta);
 
   int variables() const override { return 3; }
+  int poseDimension() const override { return 3; }
   std::string variableName(int i) const override;
   const IVec& initialBox() const override { return initial_; }
   void poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const override;

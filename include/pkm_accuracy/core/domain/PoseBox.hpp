@@ -17,6 +17,7 @@ class PoseBox final : public Domain {
   PoseBox(std::vector<std::string> names, const IVec& ranges);
 
   int variables() const override { return static_cast<int>(names_.size()); }
+  int poseDimension() const override { return variables(); }
   std::string variableName(int i) const override;
   const IVec& initialBox() const override { return initial_; }
   void poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const override;

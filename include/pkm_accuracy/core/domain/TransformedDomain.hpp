@@ -54,14 +54,17 @@ class TransformedDomain : public Domain {
   /// Largest deviation of R^T R from the identity, and of the rotation used from R, accepted.
   static constexpr double kOrthonormalityTolerance = 1e-9;
 
-  /// @param inner the domain in frame F (its variables, region and poses in F); not null
+  /// @param inner the domain in frame F (its variables, region and poses in F); not null, of rigid-body poses (6)
   /// @param base_from_frame the pose of F in the base frame
-  /// @throws InvalidArgument if inner is null, the translation or rotation is not finite or the rotation is not a
-  ///         rotation matrix (orthonormal within kOrthonormalityTolerance, determinant +1); the message names which.
+  /// @throws InvalidArgument if inner is null or its poses do not have 6 coordinates, the translation or rotation is
+  ///         not finite or the rotation is not a rotation matrix (orthonormal within kOrthonormalityTolerance,
+  ///         determinant +1); the message names which.
   TransformedDomain(std::shared_ptr<const Domain> inner, const RigidTransform& base_from_frame);
 
   /// The inner domain's variables, names and initial box (in frame F).
   int variables() const override { return inner_->variables(); }
+  /// 6: the rigid-body pose (x, y, z, roll, pitch, yaw) in the base frame.
+  int poseDimension() const override { return 6; }
   std::string variableName(int i) const override { return inner_->variableName(i); }
   const IVec& initialBox() const override { return inner_->initialBox(); }
   /// Base-frame poses of the box (pose, centrePose) and their gradient with respect to the variables.

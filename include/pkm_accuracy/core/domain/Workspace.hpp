@@ -25,6 +25,7 @@ class Workspace final : public Domain {
   static Workspace fromRanges(const std::array<Interval, 6>& ranges);
 
   int variables() const override { return 6; }
+  int poseDimension() const override { return 6; }
   std::string variableName(int i) const override;
   const IVec& initialBox() const override { return initial_; }
   void poseView(const IVec& box, bool gradient, enclosure::BoxInput& out) const override;
