@@ -269,7 +269,7 @@ TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
     enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::AffineInverseAction::GeometryTerms::AtCentre)) << "trial " << trial;
     const DMat& c = act.preconditioner();
     DVec t0(6);
     for (int i = 0; i < 6; ++i) t0[i] = in.centrePose[i].mid();
@@ -317,7 +317,7 @@ TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
     enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::AffineInverseAction::GeometryTerms::AtCentre)) << "trial " << trial;
     const DMat& c = act.preconditioner();
     const DMat& m2 = act.poseSquareMagnitude();
     const DMat& magS = act.poseMagnitude();
@@ -370,7 +370,7 @@ TEST(ErrorEnclosure, AffineHessianFormsBoundTheThirdOrderTaylorRestInMpfr) {
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
     enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::AffineInverseAction::GeometryTerms::AtCentre)) << "trial " << trial;
     const DMat c = act.preconditioner();
     std::array<DMat, MatrixHessian::kPairs> mag, lin, quad, rest, centre;
     ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, c, mag, &lin, &quad, &rest, &centre)) << "trial " << trial;
@@ -441,7 +441,7 @@ TEST(ErrorEnclosure, ResidualRadiusContainsNVInMpfrAndTightensTheForms) {
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
     enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::AffineInverseAction::GeometryTerms::AtCentre)) << "trial " << trial;
     const DMat& c = act.preconditioner();
     for (int which = 0; which < 2; ++which) {
       // V = C (the columns of J = N C), then 3 random columns, one of them with a radius.
@@ -525,7 +525,7 @@ TEST(ErrorEnclosure, SeparableSsyPartOfTheRadiusHoldsAfterTheResidualTightening)
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
     enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::AffineInverseAction::GeometryTerms::AtCentre)) << "trial " << trial;
     const DMat& c = act.preconditioner();
     for (int which = 0; which < 2; ++which) {
       const int m = which == 0 ? 6 : 3;
@@ -534,7 +534,10 @@ TEST(ErrorEnclosure, SeparableSsyPartOfTheRadiusHoldsAfterTheResidualTightening)
       for (int i = 0; i < 6; ++i)
         for (int j = 0; j < m; ++j) v(i, j) = Interval(which == 0 ? c(i, j) : unit(rng));
       enclosure::AffineInverseAction::AffineMatrix a;
-      ASSERT_TRUE(act.apply(v, a, which == 1)) << "trial " << trial;
+      ASSERT_TRUE(act.apply(v, a,
+                            which == 1 ? enclosure::AffineInverseAction::Refinements::ForErrorBounds
+                                       : enclosure::AffineInverseAction::Refinements::Standard))
+          << "trial " << trial;
       act.tightenByResidual(v, a);
       for (int k = 0; k < 6; ++k)
         for (int j = 0; j < m; ++j) {

@@ -849,7 +849,7 @@ TEST(UncertaintyEnclosure, GeometryIncrementEntryBoundsHoldAndReachTheWorstVerte
       enclosure::BoxInput in;
       ws.poseView(box, true, in);
       enclosure::AffineInverseAction act;
-      ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+      ASSERT_TRUE(act.prepare(robot, in, enclosure::AffineInverseAction::GeometryTerms::AtCentre)) << "trial " << trial;
       enclosure::AffineInverseAction::AffineMatrix jac;
       ASSERT_TRUE(nominalJ0(act, false, jac));
       enclosure::GeometryIncrement increment;
@@ -917,7 +917,7 @@ TEST(UncertaintyEnclosure, PipelineBoundsHoldAgainstDenseSamplesAtWideGeometryRa
       enclosure::BoxInput in;
       ws.poseView(box, true, in);
       enclosure::AffineInverseAction act;
-      ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+      ASSERT_TRUE(act.prepare(robot, in, enclosure::AffineInverseAction::GeometryTerms::AtCentre)) << "trial " << trial;
       enclosure::AffineInverseAction::AffineMatrix jac;
       ASSERT_TRUE(nominalJ0(act, true, jac));
       for (int j = 0; j < 6; ++j)
@@ -1334,7 +1334,9 @@ TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
       }
       for (const bool forBounds : {false, true}) {
         enclosure::AffineInverseAction::AffineMatrix a;
-        ASSERT_TRUE(act.apply(v, a, forBounds));
+        ASSERT_TRUE(act.apply(v, a,
+                              forBounds ? enclosure::AffineInverseAction::Refinements::ForErrorBounds
+                                        : enclosure::AffineInverseAction::Refinements::Standard));
         ASSERT_EQ(a.rho.rows(), geo.count);
         for (int s = 0; s < 4; ++s) {
           const DVec t = s % 2 ? randomVertexOf(box, rng) : test::randomPoint(box, rng);
@@ -1420,8 +1422,8 @@ TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
 }
 
 TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
-  // The bilinear form of apply(v, a, true) (bilinearCoefficients(), upperBilinear()) at vertices and interior points
-  // of pose boxes and of the geometry box, against N V and L L y computed in MPFR:
+  // The bilinear form of apply(v, a, Refinements::ForErrorBounds) (bilinearCoefficients(), upperBilinear()) at vertices
+  // and interior points of pose boxes and of the geometry box, against N V and L L y computed in MPFR:
   //   |NV - (centre + pose . tau + sum_p (geometry_p + sum_i m_ip tau_i) gamma_p) - (L L y)_k| <= bilinearRadius
   //   + rounding, and NV <= upperBilinear(). Boxes at random places and at the paper workspace's corner (where the
   // maxima are), columns random and of the kind the enclosure uses (C w, w a sign pattern times the sensor bounds).
@@ -1468,7 +1470,7 @@ TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
         }
       }
       enclosure::AffineInverseAction::AffineMatrix a;
-      ASSERT_TRUE(act.apply(v, a, true)) << trial;
+      ASSERT_TRUE(act.apply(v, a, enclosure::AffineInverseAction::Refinements::ForErrorBounds)) << trial;
       ASSERT_TRUE(a.bilinear) << "workspace boxes with anchor uncertainty have the bilinear form";
       enclosure::AffineInverseAction::AffineMatrix plain;
       ASSERT_TRUE(act.apply(v, plain)) << trial;
@@ -1601,7 +1603,7 @@ TEST(UncertaintyAffineInverseAction, BilinearCoefficientsAreTheMixedDerivatives)
       vp[i][0] = Mp(x);
     }
     enclosure::AffineInverseAction::AffineMatrix a;
-    ASSERT_TRUE(act.apply(v, a, true));
+    ASSERT_TRUE(act.apply(v, a, enclosure::AffineInverseAction::Refinements::ForErrorBounds));
     ASSERT_TRUE(a.bilinear);
     DVec t0(6);
     for (int i = 0; i < 6; ++i) t0[i] = in.centrePose[i].mid();

@@ -191,20 +191,44 @@ bool fixedPoint(const A& a, const A& approx, const R& rhs, R& z) {
   return false;
 }
 
+/// Accumulators for productEach(): to(e, j) += |x| scale, and to(e, j) += x.
+template <typename M>
+auto addAbsTo(M& to, double scale) {
+  return [&to, scale](int e, int j, double x) { to(e, j) += std::abs(x) * scale; };
+}
+
+template <typename M>
+auto addTo(M& to) {
+  return [&to](int e, int j, double x) { to(e, j) += x; };
+}
+
 }  // namespace
 
 bool AffineInverseAction::fixedPointBound(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z) {
   return fixedPoint(a, approx, rhs, z);
 }
 
-bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box, bool withGeometry) {
+bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box, GeometryTerms geometry) {
+  if (!prepareCentre(model, box, geometry == GeometryTerms::Expanded)) return false;
+  preparePoseSlopes(model, box);
+  boundPoseMagnitudes();
+  storeGeometryEntries(model);
+  const DMat magL = boundGeometryMagnitudes();
+  boundDotProducts();
+  prepareBilinear(box);
+  prepareAffineDeviations();
+  approximateInverses();
+  return q_.allFinite() && magE_.allFinite() && alpha_.allFinite() && magL.allFinite();
+}
+
+bool AffineInverseAction::prepareCentre(const model::RobotModel& model, const BoxInput& box, bool withGeometry) {
   n_ = model.dof();
   vars_ = box.variables;
   params_ = withGeometry ? model.geometryParameterCount() : 0;
   if ((withGeometry && params_ <= 0) || params_ > kMaxGeometryParameters) return false;
   const IMat centre = model.inverseJacobianAtGeometryCentre(box.centrePose);
   if (!approximateInverse(midpoint(centre), c_)) return false;
-  static thread_local GeometryDerivatives geo;
+  GeometryDerivatives& geo = work_.geo;
   // E(t, g) - E0 = [E(t, g) - E(t, g0)] + [E(t, g0) - E(t0, g0)]: geometry derivatives over the pose box and every
   // geometry, pose derivatives over the pose box at the centre geometry (both mean-value forms, exact).
   geo.count = 0;
@@ -214,8 +238,10 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   IMat e0 = multiplyMidRad(c_, centre);
   for (int i = 0; i < n_; ++i) e0(i, i) -= Interval(1.0);
   split(e0, e0m_, e0r_);
-  DMat magS = e0m_.cwiseAbs() + e0r_;
-  magSP_ = DMat::Zero(n_, n_);
+  return true;
+}
+
+void AffineInverseAction::preparePoseSlopes(const model::RobotModel& model, const BoxInput& box) {
   // Centred form of the pose derivatives: D_i(t) = C dJ^-1/dt_i(t) = D_i(t0) + sum_l C H_il(xi) (t_l - t0_l), xi in the
   // box (entry by entry), so D_i over the box lies in D_i(t0) + sum_l [C H_il(box)] [-dev_l, dev_l]. C H keeps the
   // cancellations between legs (C ~ J) that the direct enclosure C [dJ^-1/dt_i(box)] loses, where every leg's
@@ -226,175 +252,199 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   // variables are the pose coordinates themselves (workspace boxes; the Hessian is with respect to the pose) and the
   // model provides it. (A model call gives the first derivatives at the centre, in place of the dual-number evaluation
   // of the direct path; the interval Hessian's call also those over the box.)
-  static thread_local MatrixHessian hessian, atCentre;
-  static thread_local MatrixWithGradient poseD;
-  static thread_local std::array<DMat, MatrixHessian::kPairs> magCH;  // >= |C H_il| over the box
+  const HessianSource source = boundHessian(model, box);
+  rangeSlopes(model, box, source);
+  if (!source.centred()) return;
+  std::array<DMat, kMaxDof> tm, tr;  // Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (below)
+  for (int i = 0; i < vars_; ++i) centredSlope(i, source, tm[i], tr[i]);
+  chooseTaylorSlopes(tm, tr);
+  if (residualOk_) prepareResidualWeights();
+}
+
+AffineInverseAction::HessianSource AffineInverseAction::boundHessian(const model::RobotModel& model,
+                                                                     const BoxInput& box) {
+  Workspace& w = work_;
+  HessianSource source;
+  residualOk_ = false;
+  magNOk_ = magNFailed_ = false;
+  const bool poseBox = vars_ == n_ && box.variablesArePose(n_);
+  source.midpoint = poseBox;
+  for (int i = 0; i < vars_ && source.midpoint; ++i) {
+    const Interval& c = box.centrePose[i];
+    source.midpoint = c.lower() == c.upper() && c.lower() == box.pose[i].mid();
+  }
+  bool atCentreOk = poseBox && model.inverseJacobianHessianAtGeometryCentre(box.centrePose, w.atCentre, false);
+  for (int i = 0; i < vars_ && atCentreOk; ++i) atCentreOk = w.atCentre.first[i].rows() == n_;
+  // |C H_il| over the box: preferably the model's bound through affine forms of H in the pose (C keeps its
+  // cancellations against the Hessian's variation over the box, which |C| rad(H) of the interval Hessian loses: on the
+  // paper workspace's deciding boxes the sampled variation of C H is 1/14 of that; docs/enclosures.md);
+  // else the interval Hessian over the box, |C Hm| + |C| Hr, which also gives the first derivatives' ranges.
+  const bool mid = source.midpoint;
+  source.affine = atCentreOk && model.preconditionedHessianMagnitude(
+                                    box.pose, c_, w.magCH, mid ? &w.linCH : nullptr, mid ? &w.quadCH : nullptr,
+                                    mid ? &w.restCH : nullptr, mid ? &w.centreCH : nullptr);
+  residualOk_ = source.affine && source.midpoint && params_ == 0 && n_ == kMaxDof && vars_ == n_;
+  if (atCentreOk && !source.affine) {
+    source.box = model.inverseJacobianHessianAtGeometryCentre(box.pose, w.hessian);
+    for (int i = 0; i < vars_ && source.box; ++i) source.box = w.hessian.first[i].rows() == n_;
+    for (int p = 0; p < MatrixHessian::kPairs && source.box; ++p) source.box = w.hessian.d[p].rows() == n_;
+  }
+  return source;
+}
+
+void AffineInverseAction::rangeSlopes(const model::RobotModel& model, const BoxInput& box,
+                                      const HessianSource& source) {
+  Workspace& w = work_;
+  if (vars_ > 0 && !source.centred()) model.inverseJacobianAtGeometryCentre(box.dualPose, w.poseD);
+  const DMat zero = DMat::Zero(n_, n_);  // (C is exact: zero radius)
+  if (source.box) {
+    DMat m, r, hm, hr;
+    for (int p = 0; p < MatrixHessian::kPairs; ++p) {
+      split(w.hessian.d[p], m, r);
+      product(c_, zero, m, r, hm, hr);
+      w.magCH[p] = upAll(DMat(hm.cwiseAbs() + hr));
+    }
+  }
+  for (int i = 0; i < vars_; ++i) {
+    if (!source.affine) split(multiplyMidRad(c_, source.box ? w.hessian.first[i] : w.poseD.d[i]), dm_[i], dr_[i]);
+    devMag_[i] = box.deviation[i].mag();
+  }
+}
+
+void AffineInverseAction::centredSlope(int i, const HessianSource& source, DMat& tm, DMat& tr) {
   // With the box midpoint as the expansion's centre t0, the model's bound comes in three parts: at t0 + s dt,
   // |C H_il| <= magCH + s linCH + s^2 quadCH (linCH >= sum_m |C A_m|, the part that varies linearly in the pose
   // symbols; quadCH >= |C| R2, the affine forms' nonlinearity, which vanishes quadratically at t0; magCH the rest):
   // the mean-value form of D_i weights them by int_0^1 s^k ds = 1, 1/2, 1/3 and the Taylor slopes by
   // int_0^1 (1 - s) s^k ds / int_0^1 (1 - s) ds = 1, 1/3, 1/6.
-  static thread_local std::array<DMat, MatrixHessian::kPairs> linCH, quadCH;
-  // (tightenByResidual(): the remainder's part |C| R0 and the centre C Hc of the same affine Hessian forms.)
-  static thread_local std::array<DMat, MatrixHessian::kPairs> restCH, centreCH;
-  residualOk_ = false;
-  magNOk_ = magNFailed_ = false;
-  const bool poseBox = vars_ == n_ && box.variablesArePose(n_);
-  bool midpoint = poseBox;
-  for (int i = 0; i < vars_ && midpoint; ++i) {
-    const Interval& c = box.centrePose[i];
-    midpoint = c.lower() == c.upper() && c.lower() == box.pose[i].mid();
-  }
-  bool atCentreOk = poseBox && model.inverseJacobianHessianAtGeometryCentre(box.centrePose, atCentre, false);
-  for (int i = 0; i < vars_ && atCentreOk; ++i) atCentreOk = atCentre.first[i].rows() == n_;
-  // |C H_il| over the box: preferably the model's bound through affine forms of H in the pose (C keeps its
-  // cancellations against the Hessian's variation over the box, which |C| rad(H) of the interval Hessian loses: on the
-  // paper workspace's deciding boxes the sampled variation of C H is 1/14 of that; docs/enclosures.md);
-  // else the interval Hessian over the box, |C Hm| + |C| Hr, which also gives the first derivatives' ranges.
-  const bool affineHessian =
-      atCentreOk && model.preconditionedHessianMagnitude(box.pose, c_, magCH, midpoint ? &linCH : nullptr,
-                                                         midpoint ? &quadCH : nullptr, midpoint ? &restCH : nullptr,
-                                                         midpoint ? &centreCH : nullptr);
-  residualOk_ = affineHessian && midpoint && params_ == 0 && n_ == kMaxDof && vars_ == n_;
-  bool boxHessian = false;
-  if (atCentreOk && !affineHessian) {
-    boxHessian = model.inverseJacobianHessianAtGeometryCentre(box.pose, hessian);
-    for (int i = 0; i < vars_ && boxHessian; ++i) boxHessian = hessian.first[i].rows() == n_;
-    for (int p = 0; p < MatrixHessian::kPairs && boxHessian; ++p) boxHessian = hessian.d[p].rows() == n_;
-  }
-  const bool centred = affineHessian || boxHessian;
-  if (vars_ > 0 && !centred) model.inverseJacobianAtGeometryCentre(box.dualPose, poseD);
+  const Workspace& w = work_;
   const DMat zero = DMat::Zero(n_, n_);  // (C is exact: zero radius)
-  if (boxHessian) {
-    DMat m, r, hm, hr;
-    for (int p = 0; p < MatrixHessian::kPairs; ++p) {
-      split(hessian.d[p], m, r);
-      product(c_, zero, m, r, hm, hr);
-      magCH[p] = upAll(DMat(hm.cwiseAbs() + hr));
+  DMat cm, cr, m, r;
+  split(w.atCentre.first[i], m, r);
+  product(c_, zero, m, r, cm, cr);
+  if (residualOk_) {
+    rg_[i] = cm;
+    rgr_[i] = cr;
+    rgAbs_[i] = cm.cwiseAbs();
+  }
+  DMat half = cr;  // the Taylor slope's radius (below)
+  for (int l = 0; l < n_; ++l) {
+    const int p = MatrixHessian::index(i, l);
+    const DMat t = upAll(DMat(w.magCH[p] * devMag_[l]));
+    if (source.affine && source.midpoint) {
+      const DMat u = upAll(DMat(w.linCH[p] * devMag_[l])), v = upAll(DMat(w.quadCH[p] * devMag_[l]));
+      // (1/3, 1/6, 1/12 rounded: within upAll's relative margin)
+      cr = upAll(DMat(cr + t + 0.5 * u + (1.0 / 3.0) * v));
+      half = upAll(DMat(half + 0.5 * t + (1.0 / 6.0) * u + (1.0 / 12.0) * v));
+    } else {
+      cr = upAll(DMat(cr + t));
+      half = upAll(DMat(half + 0.5 * t));
     }
   }
-  for (int i = 0; i < vars_; ++i) {
-    if (!affineHessian) split(multiplyMidRad(c_, boxHessian ? hessian.first[i] : poseD.d[i]), dm_[i], dr_[i]);
-    devMag_[i] = box.deviation[i].mag();
+  tm = cm;
+  tr = half;
+  if (source.affine) {
+    // (No interval range of D_i over the box: the centred one.)
+    dm_[i] = cm;
+    dr_[i] = cr;
+    return;
   }
-  std::array<DMat, kMaxDof> tm, tr;  // Taylor slopes D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (below)
-  for (int i = 0; i < vars_; ++i) {
-    if (centred) {
-      DMat cm, cr, m, r;
-      split(atCentre.first[i], m, r);
-      product(c_, zero, m, r, cm, cr);
-      if (residualOk_) {
-        rg_[i] = cm;
-        rgr_[i] = cr;
-        rgAbs_[i] = cm.cwiseAbs();
-      }
-      DMat half = cr;  // the Taylor slope's radius (below)
-      for (int l = 0; l < n_; ++l) {
-        const int p = MatrixHessian::index(i, l);
-        const DMat t = upAll(DMat(magCH[p] * devMag_[l]));
-        if (affineHessian && midpoint) {
-          const DMat u = upAll(DMat(linCH[p] * devMag_[l])), v = upAll(DMat(quadCH[p] * devMag_[l]));
-          // (1/3, 1/6, 1/12 rounded: within upAll's relative margin)
-          cr = upAll(DMat(cr + t + 0.5 * u + (1.0 / 3.0) * v));
-          half = upAll(DMat(half + 0.5 * t + (1.0 / 6.0) * u + (1.0 / 12.0) * v));
-        } else {
-          cr = upAll(DMat(cr + t));
-          half = upAll(DMat(half + 0.5 * t));
-        }
-      }
-      tm[i] = cm;
-      tr[i] = half;
-      if (affineHessian) {
-        // (No interval range of D_i over the box: the centred one.)
-        dm_[i] = cm;
-        dr_[i] = cr;
-        continue;
-      }
-      // Intersection of [dm -+ dr] and [cm -+ cr] (both contain every D_i(t), t in the box).
-      for (int k = 0; k < n_; ++k) {
-        for (int l = 0; l < n_; ++l) {
-          using interval::rounding::addUp;
-          using interval::rounding::subDown;
-          const double lo = std::max(subDown(dm_[i](k, l), dr_[i](k, l)), subDown(cm(k, l), cr(k, l)));
-          const double hi = std::min(addUp(dm_[i](k, l), dr_[i](k, l)), addUp(cm(k, l), cr(k, l)));
-          if (lo <= hi) split(Interval(lo, hi), dm_[i](k, l), dr_[i](k, l));
-        }
-      }
+  // Intersection of [dm -+ dr] and [cm -+ cr] (both contain every D_i(t), t in the box).
+  for (int k = 0; k < n_; ++k) {
+    for (int l = 0; l < n_; ++l) {
+      using interval::rounding::addUp;
+      using interval::rounding::subDown;
+      const double lo = std::max(subDown(dm_[i](k, l), dr_[i](k, l)), subDown(cm(k, l), cr(k, l)));
+      const double hi = std::min(addUp(dm_[i](k, l), dr_[i](k, l)), addUp(cm(k, l), cr(k, l)));
+      if (lo <= hi) split(Interval(lo, hi), dm_[i](k, l), dr_[i](k, l));
     }
   }
+}
+
+void AffineInverseAction::chooseTaylorSlopes(const std::array<DMat, kMaxDof>& tm, const std::array<DMat, kMaxDof>& tr) {
   // Taylor slopes (second order, integral remainder): E(t, g0) = E0 + sum_i D_i(t0) dt_i + sum_{i,l} dt_i dt_l
   // int_0^1 (1 - s) C H_il(t0 + s dt) ds, and int_0^1 (1 - s) ds = 1/2, so entry by entry
   // E(t, g0) - E0 = sum_i T_i dt_i with T_i in D_i(t0) + (1/2) sum_l [C H_il(box)] [-dev_l, dev_l]: half the radius of
   // the centred range above. T_i is a slope for expansions at the box centre, not a range of D_i, so for each entry
   // (k, j) either every T_i(k, j) or every range D_i(k, j) is used (each choice is a valid representation of that
   // entry of E(t, g0) - E0): the one with the smaller sum_i radius dev_i.
-  if (centred) {
-    for (int k = 0; k < n_; ++k) {
-      for (int l = 0; l < n_; ++l) {
-        double rangeCost = 0.0, taylorCost = 0.0;
-        for (int i = 0; i < vars_; ++i) {
-          rangeCost += dr_[i](k, l) * devMag_[i];
-          taylorCost += tr[i](k, l) * devMag_[i];
-        }
-        if (!(taylorCost < rangeCost)) continue;
-        for (int i = 0; i < vars_; ++i) {
-          dm_[i](k, l) = tm[i](k, l);
-          dr_[i](k, l) = tr[i](k, l);
-        }
+  for (int k = 0; k < n_; ++k) {
+    for (int l = 0; l < n_; ++l) {
+      double rangeCost = 0.0, taylorCost = 0.0;
+      for (int i = 0; i < vars_; ++i) {
+        rangeCost += dr_[i](k, l) * devMag_[i];
+        taylorCost += tr[i](k, l) * devMag_[i];
+      }
+      if (!(taylorCost < rangeCost)) continue;
+      for (int i = 0; i < vars_; ++i) {
+        dm_[i](k, l) = tm[i](k, l);
+        dr_[i](k, l) = tr[i](k, l);
       }
     }
   }
-  if (residualOk_) {
-    for (int p = 0; p < MatrixHessian::kPairs && residualOk_; ++p) {
-      residualOk_ = centreCH[p].rows() == n_ && restCH[p].rows() == n_ && linCH[p].rows() == n_ &&
-                    quadCH[p].rows() == n_ && centreCH[p].allFinite();
-      if (!residualOk_) break;
-      rh_[p] = centreCH[p];
-      rhAbs_[p] = rh_[p].cwiseAbs();
-      // int_0^1 (1 - s) (s L + R + s^2 Q) ds = L / 6 + R / 2 + Q / 12 (the constants' rounding: within upAll's margin)
-      rw_[p] = upAll(M6(linCH[p] / 6.0 + restCH[p] / 2.0 + quadCH[p] / 12.0));
-    }
+}
+
+void AffineInverseAction::prepareResidualWeights() {
+  // (tightenByResidual(): the remainder's part |C| R0 and the centre C Hc of the same affine Hessian forms.)
+  const Workspace& w = work_;
+  for (int p = 0; p < MatrixHessian::kPairs && residualOk_; ++p) {
+    residualOk_ = w.centreCH[p].rows() == n_ && w.restCH[p].rows() == n_ && w.linCH[p].rows() == n_ &&
+                  w.quadCH[p].rows() == n_ && w.centreCH[p].allFinite();
+    if (!residualOk_) break;
+    rh_[p] = w.centreCH[p];
+    rhAbs_[p] = rh_[p].cwiseAbs();
+    // int_0^1 (1 - s) (s L + R + s^2 Q) ds = L / 6 + R / 2 + Q / 12 (the constants' rounding: within upAll's margin)
+    rw_[p] = upAll(M6(w.linCH[p] / 6.0 + w.restCH[p] / 2.0 + w.quadCH[p] / 12.0));
   }
+}
+
+void AffineInverseAction::boundPoseMagnitudes() {
+  magS_ = e0m_.cwiseAbs() + e0r_;
+  magSP_ = DMat::Zero(n_, n_);
   for (int i = 0; i < vars_; ++i) {
     const DMat term = (dm_[i].cwiseAbs() + dr_[i]) * devMag_[i];
     poseWeight_[i] = term.rowwise().sum();
-    magS += term;
+    magS_ += term;
     magSP_ += term;
   }
-  magS = upAll(magS);
+  magS_ = upAll(magS_);
   magSP_ = upAll(magSP_);
-  {
-    // magS2_ >= |S(t) S(t)|. S(t) = E0 + sum_i T_i dt_i (T_i in [dm_i +- dr_i] entry by entry, |dt_i| <= dev_i) is
-    // Sm(t) + X with Sm(t) = e0m + sum_i dm_i dt_i, |X| <= rS = e0r + sum_i dr_i dev_i and |Sm(t)| <= aS = |e0m|
-    // + sum_i |dm_i| dev_i, so |S S| <= |Sm Sm| + aS rS + rS (aS + rS), and
-    //   Sm Sm = e0m e0m + sum_i dt_i (e0m dm_i + dm_i e0m) + sum_i dt_i^2 dm_i dm_i + sum_{i<l} dt_i dt_l (dm_i dm_l
-    //           + dm_l dm_i),
-    // whose products of midpoints keep the cancellations between the terms of each entry that |S| |S| loses. They
-    // are computed in floating point: each is off by less than kGamma times the product of the magnitudes, and the
-    // sums of two by less than that again, so 2 kGamma aS aS covers them all. (The radii's part is the same sum of
-    // terms as the midpoint-radius product of every pair would give, factored.) |S| |S| is kept where smaller.
-    const auto addAbs = [](const DMat& x, double weight, DMat& sum) { sum += x.cwiseAbs() * weight; };
-    DMat m2 = mul<DMat>(e0m_, e0m_).cwiseAbs();
-    DMat aS = e0m_.cwiseAbs(), rS = e0r_;
-    for (int i = 0; i < vars_; ++i) {
-      aS += dm_[i].cwiseAbs() * devMag_[i];
-      rS += dr_[i] * devMag_[i];
-      addAbs(DMat(mul<DMat>(e0m_, dm_[i]) + mul<DMat>(dm_[i], e0m_)), devMag_[i], m2);
-      addAbs(mul<DMat>(dm_[i], dm_[i]), devMag_[i] * devMag_[i], m2);
-      for (int l = i + 1; l < vars_; ++l)
-        addAbs(DMat(mul<DMat>(dm_[i], dm_[l]) + mul<DMat>(dm_[l], dm_[i])), devMag_[i] * devMag_[l], m2);
-    }
-    aS = upAll(aS);
-    rS = upAll(rS);
-    m2 = upAll(
-        DMat(upAll(m2) + upAll(DMat(upAll(DMat(mul<DMat>(aS, rS))) + upAll(DMat(mul<DMat>(rS, DMat(aS + rS))))))));
-    m2 = upAll(DMat(m2 + 2.0 * kGamma * upAll(DMat(mul<DMat>(aS, aS)))));
-    magS2_ = upAll(m2).cwiseMin(upAll(DMat(mul<DMat>(magS, magS))));
+  boundPoseSquare();
+}
+
+void AffineInverseAction::boundPoseSquare() {
+  // magS2_ >= |S(t) S(t)|. S(t) = E0 + sum_i T_i dt_i (T_i in [dm_i +- dr_i] entry by entry, |dt_i| <= dev_i) is
+  // Sm(t) + X with Sm(t) = e0m + sum_i dm_i dt_i, |X| <= rS = e0r + sum_i dr_i dev_i and |Sm(t)| <= aS = |e0m|
+  // + sum_i |dm_i| dev_i, so |S S| <= |Sm Sm| + aS rS + rS (aS + rS), and
+  //   Sm Sm = e0m e0m + sum_i dt_i (e0m dm_i + dm_i e0m) + sum_i dt_i^2 dm_i dm_i + sum_{i<l} dt_i dt_l (dm_i dm_l
+  //           + dm_l dm_i),
+  // whose products of midpoints keep the cancellations between the terms of each entry that |S| |S| loses. They
+  // are computed in floating point: each is off by less than kGamma times the product of the magnitudes, and the
+  // sums of two by less than that again, so 2 kGamma aS aS covers them all. (The radii's part is the same sum of
+  // terms as the midpoint-radius product of every pair would give, factored.) |S| |S| is kept where smaller.
+  const auto addAbs = [](const DMat& x, double weight, DMat& sum) { sum += x.cwiseAbs() * weight; };
+  DMat m2 = mul<DMat>(e0m_, e0m_).cwiseAbs();
+  DMat aS = e0m_.cwiseAbs(), rS = e0r_;
+  for (int i = 0; i < vars_; ++i) {
+    aS += dm_[i].cwiseAbs() * devMag_[i];
+    rS += dr_[i] * devMag_[i];
+    addAbs(DMat(mul<DMat>(e0m_, dm_[i]) + mul<DMat>(dm_[i], e0m_)), devMag_[i], m2);
+    addAbs(mul<DMat>(dm_[i], dm_[i]), devMag_[i] * devMag_[i], m2);
+    for (int l = i + 1; l < vars_; ++l)
+      addAbs(DMat(mul<DMat>(dm_[i], dm_[l]) + mul<DMat>(dm_[l], dm_[i])), devMag_[i] * devMag_[l], m2);
   }
+  aS = upAll(aS);
+  rS = upAll(rS);
+  m2 = upAll(DMat(upAll(m2) + upAll(DMat(upAll(DMat(mul<DMat>(aS, rS))) + upAll(DMat(mul<DMat>(rS, DMat(aS + rS))))))));
+  m2 = upAll(DMat(m2 + 2.0 * kGamma * upAll(DMat(mul<DMat>(aS, aS)))));
+  magS2_ = upAll(m2).cwiseMin(upAll(DMat(mul<DMat>(magS_, magS_))));
+}
+
+void AffineInverseAction::storeGeometryEntries(const model::RobotModel& model) {
   for (int p = 0; p < params_; ++p) {
     h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
   }
-
+  const GeometryDerivatives& geo = work_.geo;
   gm_.resize(entries_, n_);
   gr_.resize(entries_, n_);
   cg_.resize(n_, entries_);
@@ -429,14 +479,18 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
       affWeight_[l][e] = up(w);
     }
   }
+}
+
+DMat AffineInverseAction::boundGeometryMagnitudes() {
   absC_ = c_.cwiseAbs();
   // |L| <= sum_e |C_{., row(e)}| h_p |d_e|^T = |C| R with R(i, l) = sum over the entries e of row i of h_p |d_e|_l.
-  const EntryMat magG = upAll(EntryMat(gm_.cwiseAbs() + gr_));
+  magG_ = upAll(EntryMat(gm_.cwiseAbs() + gr_));
   DMat rowG = DMat::Zero(n_, n_);
-  for (int e = 0; e < entries_; ++e) rowG.row(row_[e]) += h_[param_[e]] * magG.row(e);
+  for (int e = 0; e < entries_; ++e) rowG.row(row_[e]) += h_[param_[e]] * magG_.row(e);
   const DMat magL = upAll(DMat(mul<DMat>(absC_, upAll(rowG))));
   // alpha(e, j) >= |d_e . C_{.,j}| for every d_e in its enclosure.
   {
+    const DMat zero = DMat::Zero(n_, n_);  // (C is exact: zero radius)
     EntryMat m, r;
     if (affine_) {  // (the affine form is the narrower one, as in apply(): the same boxes without the product)
       affineDots(c_, zero, m, r);
@@ -447,58 +501,59 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     dcm_ = m;
     dcr_ = r;
   }
-  magE_ = upAll(DMat(magS + magL));
+  magE_ = upAll(DMat(magS_ + magL));
   magE2_ = upAll(DMat(mul<DMat>(magE_, magE_)));
-  magS_ = magS;
   magE0_ = upAll(DMat(e0m_.cwiseAbs() + e0r_));
-  magG_ = magG;
+  return magL;
+}
+
+void AffineInverseAction::boundDotProducts() {
   // |d_e^T S| <= |d_e^T E0| + sum_i |d_e^T D_i| |dev_i| and |S C| <= |E0 C| + sum_i |D_i C| |dev_i|: the dot products
   // keep their cancellations, which |d_e|^T |S| and |S| |C| lose (both bounds are valid: the smaller is kept).
   // They bound |d_e . (S y)| <= dS z (so |L S y| <= cgh dS z) and |S L y| = |S C Lambda| <= |S C| B. With
   // X in [xm +- xr] (X = E0, D_i), |d_e^T X| <= |gm xm| + |gm| (xr + gamma |xm|) + gr (|xm| + xr), so the radius
   // parts of all the terms add up to two products: |gm| W + gr |S| with W = sum over the terms of |dev| (xr +
   // gamma |xm|) (the plain products' rounding errors are in the gamma part); likewise |S C| with |C| W.
-  {
-    // (The entries x n products through productEach(): as Eigen's lazy products they are a third of prepare()'s
-    // instructions at +-0.5 mm.)
-    DMat w = upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs()));
-    EntryMat ds = EntryMat::Zero(entries_, n_);
-    const auto addAbs = [](EntryMat& to, double scale) {
-      return [&to, scale](int e, int j, double x) { to(e, j) += std::abs(x) * scale; };
-    };
-    const auto add = [](EntryMat& to) { return [&to](int e, int j, double x) { to(e, j) += x; }; };
-    productEach(gm_, e0m_, addAbs(ds, 1.0));
-    DMat sc = mul<DMat>(e0m_, c_).cwiseAbs();
-    for (int i = 0; i < vars_; ++i) {
-      w += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
-      productEach(gm_, dm_[i], addAbs(ds, devMag_[i]));
-      dc_[i] = mul<DMat>(dm_[i], c_);  // (also for the bilinear terms below)
-      sc += dc_[i].cwiseAbs() * devMag_[i];
-    }
-    w = upAll(w);
-    const EntryMat absGm = gm_.cwiseAbs();
-    productEach(absGm, w, add(ds));
-    productEach(gr_, magS, add(ds));
-    sc += mul<DMat>(w, absC_);
-    EntryMat plain = EntryMat::Zero(entries_, n_);  // |d_e|^T |S|
-    productEach(magG, magS, add(plain));
-    dS_ = upAll(ds).cwiseMin(upAll(plain));
-    sc_ = upAll(sc).cwiseMin(upAll(DMat(mul<DMat>(magS, absC_))));
-    // |d_e^T S C| likewise (the midpoints' products gm (E0m C), gm (D_i C) keep their cancellations; their roundings:
-    // kGamma |gm| sc).
-    if (entries_ > 0) {
-      const DMat e0c = mul<DMat>(e0m_, c_);
-      EntryMat dsc = EntryMat::Zero(entries_, n_);
-      productEach(gm_, e0c, addAbs(dsc, 1.0));
-      for (int i = 0; i < vars_; ++i) productEach(gm_, dc_[i], addAbs(dsc, devMag_[i]));
-      productEach(absGm, DMat(upAll(DMat(mul<DMat>(w, absC_)))), add(dsc));
-      productEach(gr_, sc_, add(dsc));
-      productEach(absGm, DMat(upAll(sc)), addAbs(dsc, kGamma));
-      plain.setZero();  // |d_e^T S| |C|
-      productEach(dS_, absC_, add(plain));
-      dSC_ = upAll(dsc).cwiseMin(upAll(plain));
-    }
+  // (The entries x n products through productEach(): as Eigen's lazy products they are a third of prepare()'s
+  // instructions at +-0.5 mm.)
+  DMat w = upAll(DMat(e0r_ + kGamma * e0m_.cwiseAbs()));
+  EntryMat ds = EntryMat::Zero(entries_, n_);
+  productEach(gm_, e0m_, addAbsTo(ds, 1.0));
+  DMat sc = mul<DMat>(e0m_, c_).cwiseAbs();
+  for (int i = 0; i < vars_; ++i) {
+    w += upAll(DMat((dr_[i] + kGamma * dm_[i].cwiseAbs()) * devMag_[i]));
+    productEach(gm_, dm_[i], addAbsTo(ds, devMag_[i]));
+    dc_[i] = mul<DMat>(dm_[i], c_);  // (also for the bilinear terms)
+    sc += dc_[i].cwiseAbs() * devMag_[i];
   }
+  w = upAll(w);
+  const EntryMat absGm = gm_.cwiseAbs();
+  productEach(absGm, w, addTo(ds));
+  productEach(gr_, magS_, addTo(ds));
+  sc += mul<DMat>(w, absC_);
+  EntryMat plain = EntryMat::Zero(entries_, n_);  // |d_e|^T |S|
+  productEach(magG_, magS_, addTo(plain));
+  dS_ = upAll(ds).cwiseMin(upAll(plain));
+  sc_ = upAll(sc).cwiseMin(upAll(DMat(mul<DMat>(magS_, absC_))));
+  if (entries_ > 0) boundDotProductsWithC(w, sc, absGm);
+}
+
+void AffineInverseAction::boundDotProductsWithC(const DMat& w, const DMat& sc, const EntryMat& absGm) {
+  // |d_e^T S C| as |d_e^T S| (boundDotProducts()): the midpoints' products gm (E0m C), gm (D_i C) keep their
+  // cancellations; their roundings: kGamma |gm| sc.
+  const DMat e0c = mul<DMat>(e0m_, c_);
+  EntryMat dsc = EntryMat::Zero(entries_, n_);
+  productEach(gm_, e0c, addAbsTo(dsc, 1.0));
+  for (int i = 0; i < vars_; ++i) productEach(gm_, dc_[i], addAbsTo(dsc, devMag_[i]));
+  productEach(absGm, DMat(upAll(DMat(mul<DMat>(w, absC_)))), addTo(dsc));
+  productEach(gr_, sc_, addTo(dsc));
+  productEach(absGm, DMat(upAll(sc)), addAbsTo(dsc, kGamma));
+  EntryMat plain = EntryMat::Zero(entries_, n_);  // |d_e^T S| |C|
+  productEach(dS_, absC_, addTo(plain));
+  dSC_ = upAll(dsc).cwiseMin(upAll(plain));
+}
+
+void AffineInverseAction::prepareBilinear(const BoxInput& box) {
   // The bilinear terms (apply(), bilinearCoefficients()): the affine forms' pose symbols must be the box variables
   // (tau'_i = (t_i - mid_i) / a_i with a_i their scale, tau_i = (t_i - t0_i) / dev_i, t0 = mid: tau'_i = kappa_i
   // tau_i), and each parameter must have one entry (anchor coordinates: one row each).
@@ -507,136 +562,240 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
     int count[kMaxGeometryParameters] = {};
     for (int e = 0; e < entries_; ++e) bilinear_ = bilinear_ && ++count[param_[e]] == 1;
   }
-  if (bilinear_) {
-    DMat dr = DMat::Zero(n_, n_), dmc = DMat::Zero(n_, n_);
-    for (int i = 0; i < n_; ++i) {
-      const double a = interval::AffineForm<kMaxDof>::variable(box.pose[i], i).coefficient(i);
-      kappa_[i] = a > 0.0 ? devMag_[i] / a : 0.0;
-      if (!(a > 0.0) && devMag_[i] > 0.0) bilinear_ = false;
-      dcAbs_[i] = upAll(DMat(mul<DMat>(DMat(dm_[i].cwiseAbs()), absC_)));
-      dmc += (dc_[i].cwiseAbs() + kGamma * dcAbs_[i]) * devMag_[i];
-      dr += dr_[i] * devMag_[i];
-    }
-    dmc_ = upAll(upAll(dmc));
-    drc_ = upAll(DMat(mul<DMat>(upAll(dr), absC_)));
-    e0c_ = upAll(DMat(mul<DMat>(magE0_, absC_)));
+  if (!bilinear_) return;
+  DMat dr = DMat::Zero(n_, n_), dmc = DMat::Zero(n_, n_);
+  for (int i = 0; i < n_; ++i) {
+    const double a = interval::AffineForm<kMaxDof>::variable(box.pose[i], i).coefficient(i);
+    kappa_[i] = a > 0.0 ? devMag_[i] / a : 0.0;
+    if (!(a > 0.0) && devMag_[i] > 0.0) bilinear_ = false;
+    dcAbs_[i] = upAll(DMat(mul<DMat>(DMat(dm_[i].cwiseAbs()), absC_)));
+    dmc += (dc_[i].cwiseAbs() + kGamma * dcAbs_[i]) * devMag_[i];
+    dr += dr_[i] * devMag_[i];
   }
-  if (affine_) {
-    // |d_e - c_e| <= sum_m |slope_m| + radius and |c_e|, component by component (apply()).
-    devE_.resize(entries_, n_);
-    absCe_.resize(entries_, n_);
-    for (int e = 0; e < entries_; ++e) {
-      for (int l = 0; l < n_; ++l) {
-        double w = affRadius_[l][e];
-        for (int m = 0; m < n_; ++m) w += std::abs(affSlope_[m][l][e]);
-        devE_(e, l) = up(w);
-        absCe_(e, l) = std::abs(affCentre_[l][e]);
-      }
+  dmc_ = upAll(upAll(dmc));
+  drc_ = upAll(DMat(mul<DMat>(upAll(dr), absC_)));
+  e0c_ = upAll(DMat(mul<DMat>(magE0_, absC_)));
+}
+
+void AffineInverseAction::prepareAffineDeviations() {
+  if (!affine_) return;
+  // |d_e - c_e| <= sum_m |slope_m| + radius and |c_e|, component by component (apply()).
+  devE_.resize(entries_, n_);
+  absCe_.resize(entries_, n_);
+  for (int e = 0; e < entries_; ++e) {
+    for (int l = 0; l < n_; ++l) {
+      double w = affRadius_[l][e];
+      for (int m = 0; m < n_; ++m) w += std::abs(affSlope_[m][l][e]);
+      devE_(e, l) = up(w);
+      absCe_(e, l) = std::abs(affCentre_[l][e]);
     }
   }
+}
+
+void AffineInverseAction::approximateInverses() {
+  using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>;
   // q_ ~ (I - |E|)^-1: any approximation; apply() verifies what it gives.
   DMat iMinus = -magE_;
   for (int i = 0; i < n_; ++i) iMinus(i, i) += 1.0;
-  Eigen::PartialPivLU<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>> lu(iMinus);
+  Eigen::PartialPivLU<Square> lu(iMinus);
   q_ = lu.inverse();
   // R(alpha) (i, j) = sum over the entries e of row i of h_p(e) alpha(e, j), and an approximation of its
   // (I - R(alpha))^-1 (apply(): the fixed point of the refinement of B).
   alphaRowsOk_ = false;
   jointOk_ = false;
-  if (entries_ > 0) {
-    alphaRows_ = DMat::Zero(n_, n_);
-    for (int e = 0; e < entries_; ++e) alphaRows_.row(row_[e]) += entryH_[e] * alpha_.row(e);
-    alphaRows_ = upAll(alphaRows_);
-    DMat iMinusA = -alphaRows_;
-    for (int i = 0; i < n_; ++i) iMinusA(i, i) += 1.0;
-    alphaRowsInv_ =
-        Eigen::PartialPivLU<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>>(iMinusA)
-            .inverse();
-    alphaRowsOk_ = alphaRows_.allFinite() && alphaRowsInv_.allFinite();
-    // The joint system of (|y - v|, R(|d_e . (y - v)|)) (apply()): [[|S|, |C|], [R(dS), R(alpha)]].
-    DMat rowDS = DMat::Zero(n_, n_);
-    for (int e = 0; e < entries_; ++e) rowDS.row(row_[e]) += entryH_[e] * dS_.row(e);
-    joint_.resize(2 * n_, 2 * n_);
-    joint_.topLeftCorner(n_, n_) = magS_;
-    joint_.topRightCorner(n_, n_) = absC_;
-    joint_.bottomLeftCorner(n_, n_) = upAll(rowDS);
-    joint_.bottomRightCorner(n_, n_) = alphaRows_;
-    JSquare iMinusJ = -joint_;
-    for (int i = 0; i < 2 * n_; ++i) iMinusJ(i, i) += 1.0;
-    jointInv_ = Eigen::PartialPivLU<JSquare>(iMinusJ).inverse();
-    jointOk_ = alphaRowsOk_ && joint_.allFinite() && jointInv_.allFinite();
-  }
-  return q_.allFinite() && magE_.allFinite() && alpha_.allFinite() && magL.allFinite();
+  if (entries_ <= 0) return;
+  alphaRows_ = DMat::Zero(n_, n_);
+  for (int e = 0; e < entries_; ++e) alphaRows_.row(row_[e]) += entryH_[e] * alpha_.row(e);
+  alphaRows_ = upAll(alphaRows_);
+  DMat iMinusA = -alphaRows_;
+  for (int i = 0; i < n_; ++i) iMinusA(i, i) += 1.0;
+  alphaRowsInv_ = Eigen::PartialPivLU<Square>(iMinusA).inverse();
+  alphaRowsOk_ = alphaRows_.allFinite() && alphaRowsInv_.allFinite();
+  // The joint system of (|y - v|, R(|d_e . (y - v)|)) (apply()): [[|S|, |C|], [R(dS), R(alpha)]].
+  DMat rowDS = DMat::Zero(n_, n_);
+  for (int e = 0; e < entries_; ++e) rowDS.row(row_[e]) += entryH_[e] * dS_.row(e);
+  joint_.resize(2 * n_, 2 * n_);
+  joint_.topLeftCorner(n_, n_) = magS_;
+  joint_.topRightCorner(n_, n_) = absC_;
+  joint_.bottomLeftCorner(n_, n_) = upAll(rowDS);
+  joint_.bottomRightCorner(n_, n_) = alphaRows_;
+  JSquare iMinusJ = -joint_;
+  for (int i = 0; i < 2 * n_; ++i) iMinusJ(i, i) += 1.0;
+  jointInv_ = Eigen::PartialPivLU<JSquare>(iMinusJ).inverse();
+  jointOk_ = alphaRowsOk_ && joint_.allFinite() && jointInv_.allFinite();
 }
 
 bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const { return fixedPoint(magE_, q_, rhs, z); }
 
-bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds) const {
-  const int m = static_cast<int>(v.cols());
-  DMat vm, vr;
-  split(v, vm, vr);
-  const DMat absV = upAll(DMat(vm.cwiseAbs() + vr));
-  if (!absV.allFinite()) return false;
+/// The terms of apply() for one matrix V (m columns), in the order it bounds them (locals of one apply() call, on the
+/// stack: every matrix has a fixed maximum size).
+struct AffineInverseAction::ColumnTerms {
+  int m = 0;
+  DMat vm, vr, absV;                     ///< V in midpoint-radius form, |V|
+  DMat ym, yr;                           ///< Y0 = V - E0 V, midpoint and radius
+  DMat absSv;                            ///< >= |E0 V|, then >= |S V| (S = E0 + P the pose part of E)
+  DMat e0v;                              ///< >= |E0 V|
+  DMat z;                                ///< >= |N V| (the Neumann majorant, then refined)
+  EntryMat dvm, dvr, dvr0, magDV;        ///< d_e . v (midpoint, radius, radius without the slope part), |d_e . v|
+  std::array<DMat, kMaxDof> dvmI, dvrI;  ///< D_i V, midpoint and radius
+  DMat pv;                               ///< >= |P V|
+  DMat bV;                               ///< B_v: row sums of h |d_e . v|
+  DMat lv;                               ///< >= |L V|
+  DMat delta;                            ///< >= |Y - Y0|
+  EntryMat q;                            ///< sum_i dev_i |c_e . (D_i v)| (columns that bound f_k)
+  DMat pvr;                              ///< >= sum_i dev_i (the radius of D_i v and its rounding)
+  DMat spread;                           ///< >= |y - v|
+  EntryMat poseDotRest;                  ///< >= devE |P v| + |c_e| pvr + |d_e| |E0 v| (empty until poseDotRestOnce())
+  EntryMat dsSpread;                     ///< >= |d_e . S (y - v)| (empty if not computed)
+  EntryMat rhoJoint;                     ///< >= |d_e . (y - v)| from the joint system (empty if not solved)
+  DMat bRhoJoint;                        ///< >= R(|d_e . (y - v)|) from it
+  DMat sy;                               ///< >= |S y|
+  EntryMat gsy;                          ///< >= |d_e . (S y)|
+  EntryMat dotRest;                      ///< the part of gsy beyond q (columns that bound f_k)
+  EntryMat rho, beta;                    ///< >= |d_e . (y - v)|, >= |d_e . y|
+  DMat b;                                ///< B: row sums of h beta
+  EntryMat gamma;                        ///< >= |d_e . L y|
+  DMat ssy, sly, lsy;                    ///< >= |S S y|, |S L y|, |L S y|
+  DMat radius;                           ///< the radius of the forms, summed up term by term
+  DMat poseRadius;                       ///< the pose coefficients' radii (the bilinear radius)
+};
+
+bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, Refinements refinements) const {
+  const bool forBounds = refinements == Refinements::ForErrorBounds;
+  ColumnTerms s;
+  if (!startColumns(v, s)) return false;
+  out.bilinear = forBounds && bilinear_;
+  geometryDots(s, out.bilinear ? &out.sv : nullptr);
+  posePart(s);
+  if (affine_ && forBounds) centreDots(s, out.bilinear ? &out.q1 : nullptr);
+  boundSpread(s);
+  boundPoseProduct(s);
+  if (entries_ > 0) s.gsy = nonNegativeProduct(magG_, s.sy);
+  if (affine_ && forBounds) boundPoseDotsByCentre(s);
+  refineDots(s, out);
+  const DMat remainder = boundRemainder(s, out);
+  writePoseForms(s, remainder, out);
+  if (out.bilinear) {
+    writeBilinear(s, out);
+  } else {
+    for (int i = 0; i < kMaxDof; ++i) out.q1[i].resize(0, 0), out.sv[i].resize(0, 0);
+    out.gammaDot.resize(0, 0);
+    out.dotRest.resize(0, 0);
+    out.rowB.resize(0, 0);
+    out.bilinearRadius.resize(0, 0);
+  }
+  sharePoseRemainder(s, out);
+  writeGeometryForms(s, out);
+  return out.radius.allFinite() && out.centre.allFinite();
+}
+
+bool AffineInverseAction::startColumns(const IMat& v, ColumnTerms& s) const {
+  s.m = static_cast<int>(v.cols());
+  split(v, s.vm, s.vr);
+  s.absV = upAll(DMat(s.vm.cwiseAbs() + s.vr));
+  if (!s.absV.allFinite()) return false;
 
   // Y0 = V - E0 V.
-  DMat ym, yr;
-  product(e0m_, e0r_, vm, vr, ym, yr);
-  DMat absSv = upAll(DMat(ym.cwiseAbs() + yr));  // >= |E0 V|; below + |P V| >= |S V|
-  ym = vm - ym;
-  yr = upAll(DMat(yr + vr + kGamma * (vm.cwiseAbs() + ym.cwiseAbs())));
+  product(e0m_, e0r_, s.vm, s.vr, s.ym, s.yr);
+  s.absSv = upAll(DMat(s.ym.cwiseAbs() + s.yr));  // >= |E0 V|; later + |P V| >= |S V|
+  s.ym = s.vm - s.ym;
+  s.yr = upAll(DMat(s.yr + s.vr + kGamma * (s.vm.cwiseAbs() + s.ym.cwiseAbs())));
 
   // Z >= |N V| column by column: Y = V - E Y gives |Y| <= |V| + |E| |Y|.
-  DMat z;
-  if (!majorant(absV, z)) return false;
+  return majorant(s.absV, s.z);
+}
 
+void AffineInverseAction::geometryDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* sv) const {
   // Geometry: DV = D_G V (first-order terms; also inside L L Y, as y = v + (y - v)).
-  EntryMat dvm, dvr, dvr0;
-  out.bilinear = forBounds && bilinear_;
   if (affine_) {
     // (The affine form is always the narrower one: measured, the same boxes without the interval product.)
-    if (out.bilinear) {
-      affineDots(vm, vr, dvm, dvr, &dvr0, &out.sv);
+    if (sv) {
+      affineDots(s.vm, s.vr, s.dvm, s.dvr, &s.dvr0, sv);
     } else {
-      affineDots(vm, vr, dvm, dvr);
+      affineDots(s.vm, s.vr, s.dvm, s.dvr);
     }
   } else {
-    product(gm_, gr_, vm, vr, dvm, dvr);
+    product(gm_, gr_, s.vm, s.vr, s.dvm, s.dvr);
   }
-  const EntryMat magDV = upAll(EntryMat(dvm.cwiseAbs() + dvr));
+  s.magDV = upAll(EntryMat(s.dvm.cwiseAbs() + s.dvr));
+}
+
+DMat AffineInverseAction::rowSums(const EntryMat& x, int m) const {
   // Products cgh X (n x entries times entries x m, X >= 0) through the rows the entries move: cgh(k, e) =
   // |C_{k,row(e)}| h_p(e), so cgh X = |C| R(X) with R(X)(i, j) = sum over the entries e of row i of h_p(e) X(e, j)
   // (the same sums, a sixth of the products; every term is >= 0, so up() covers the roundings).
   DMat rowSum(n_, m);
-  auto rowSums = [&](const EntryMat& x) -> const DMat& {
-    rowSum.setZero();
-    for (int j = 0; j < m; ++j) {
-      double* sum = &rowSum(0, j);
-      const double* column = &x(0, j);
-      for (int r = 0; r < runs_; ++r) {  // (each run's entries move the same row: one sum per run)
-        double t = 0.0;
-        for (int e = runStart_[r]; e < runStart_[r + 1]; ++e) t += entryH_[e] * column[e];
-        sum[row_[runStart_[r]]] += t;
-      }
+  rowSum.setZero();
+  for (int j = 0; j < m; ++j) {
+    double* sum = &rowSum(0, j);
+    const double* column = &x(0, j);
+    for (int r = 0; r < runs_; ++r) {  // (each run's entries move the same row: one sum per run)
+      double t = 0.0;
+      for (int e = runStart_[r]; e < runStart_[r + 1]; ++e) t += entryH_[e] * column[e];
+      sum[row_[runStart_[r]]] += t;
     }
-    rowSum = upAll(rowSum);
-    return rowSum;
-  };
-  auto chProduct = [&](const EntryMat& x) { return upAll(DMat(mul<DMat>(absC_, rowSums(x)))); };
+  }
+  return upAll(rowSum);
+}
+
+DMat AffineInverseAction::chProduct(const EntryMat& x, int m) const {
+  return upAll(DMat(mul<DMat>(absC_, rowSums(x, m))));
+}
+
+void AffineInverseAction::posePart(ColumnTerms& s) const {
   // |Y - Y0| = |-(E - E0) V + E^2 Y| <= |P V| + |L V| + |E| |E| Z  (delta), where E - E0 = P + L (P: the pose
   // part, L: the geometry part), |L V| <= cgh |DV| keeps the cancellations inside the dot products d_e . v, and
   // |P V| <= sum_i |D_i V| |dev_i| those inside D_i v (the products the pose coefficients need anyway), which |P| |V|
   // loses (the smaller of the two is kept). (|E| |E| is computed once per box in prepare().)
-  std::array<DMat, kMaxDof> dvm_i, dvr_i;  // D_i V, midpoint and radius
-  DMat pv = DMat::Zero(n_, m);             // >= |P V|
+  s.pv = DMat::Zero(n_, s.m);
   for (int i = 0; i < vars_; ++i) {
-    product(dm_[i], dr_[i], vm, vr, dvm_i[i], dvr_i[i]);
-    pv += (dvm_i[i].cwiseAbs() + dvr_i[i]) * devMag_[i];
+    product(dm_[i], dr_[i], s.vm, s.vr, s.dvmI[i], s.dvrI[i]);
+    s.pv += (s.dvmI[i].cwiseAbs() + s.dvrI[i]) * devMag_[i];
   }
-  pv = upAll(pv).cwiseMin(upAll(DMat(mul<DMat>(magSP_, absV))));
-  const DMat bV = rowSums(magDV);                     // B_v: row sums of h |d_e . v|
-  const DMat lv = upAll(DMat(mul<DMat>(absC_, bV)));  // >= |L V| (chProduct(magDV))
-  const DMat delta = upAll(DMat(upAll(DMat(pv + lv)) + upAll(DMat(mul<DMat>(magE2_, z)))));
+  s.pv = upAll(s.pv).cwiseMin(upAll(DMat(mul<DMat>(magSP_, s.absV))));
+  s.bV = rowSums(s.magDV, s.m);
+  s.lv = upAll(DMat(mul<DMat>(absC_, s.bV)));  // >= |L V| (chProduct(magDV))
+  s.delta = upAll(DMat(upAll(DMat(s.pv + s.lv)) + upAll(DMat(mul<DMat>(magE2_, s.z)))));
+  s.e0v = s.absSv;  // >= |E0 V| (the product in startColumns(), midpoint-radius)
+}
 
+void AffineInverseAction::centreDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* q1) const {
+  // q(e, j) = sum_i dev_i |c_e . (D_i v_j)| (c_e: the centre of d_e's affine form), pvr >= sum_i dev_i (the radius of
+  // D_i v and its rounding): |d_e . (P v)| <= q + devE |P v| + |c_e| pvr (boundPoseDotsByCentre()). For the columns
+  // that bound f_k.
+  const int m = s.m;
+  s.q = EntryMat::Zero(entries_, m);
+  s.pvr = DMat::Zero(n_, m);
+  for (int i = 0; i < vars_; ++i) {
+    s.pvr += (s.dvrI[i] + kGamma * s.dvmI[i].cwiseAbs()) * devMag_[i];
+    EntryMat* keep = q1 ? &(*q1)[i] : nullptr;
+    if (keep) keep->resize(entries_, m);
+    for (int j = 0; j < m; ++j) {
+      double dot[kEntries];
+      for (int e = 0; e < entries_; ++e) dot[e] = 0.0;
+      for (int l = 0; l < n_; ++l) {
+        const double x = s.dvmI[i](l, j);
+        for (int e = 0; e < entries_; ++e) dot[e] += affCentre_[l][e] * x;
+      }
+      double* col = &s.q(0, j);
+      for (int e = 0; e < entries_; ++e) col[e] += std::abs(dot[e]) * devMag_[i];
+      if (keep)
+        for (int e = 0; e < entries_; ++e) (*keep)(e, j) = dot[e];
+    }
+  }
+  s.pvr = upAll(s.pvr);
+}
+
+const AffineInverseAction::EntryMat& AffineInverseAction::poseDotRestOnce(ColumnTerms& s) const {
+  // >= devE |P v| + |c_e| pvr + |d_e| |E0 v| (the part of |d_e . (S y)|'s bound beyond q and d_e . S (y - v); only
+  // with q), computed on first use.
+  if (s.poseDotRest.rows() != entries_)
+    s.poseDotRest = upAll(EntryMat(nonNegativeProduct(devE_, s.pv) + nonNegativeProduct(absCe_, s.pvr) +
+                                   nonNegativeProduct(magG_, s.e0v)));
+  return s.poseDotRest;
+}
+
+void AffineInverseAction::boundSpread(ColumnTerms& s) const {
   // beta(e, col) >= |d_e . y| <= |d_e . v| + rho(e, col), rho >= |d_e . (y - v)|, from spread >= |y - v|:
   // |y - v| <= |E0 V| + delta, and since y - v = -E y = -E v - E (y - v),
   //   |y - v| <= first + |E| |y - v|,   first = |E0 V| + |P V| + |L V| >= |E v|,
@@ -651,250 +810,220 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, bool forBounds
   //   d_e . (y - v) = -d_e . (E0 v + P v + L v) - d_e . S (y - v) - d_e . L (y - v)
   //                                                                    gives  rho <= rho1 + dS s + alpha Brho,
   // so [s; Brho] <= [first; R(rho1)] + [[|S|, |C|], [R(dS), R(alpha)]] [s; Brho], a 2n x 2n system whose verified
-  // fixed point bounds both (rho1: |d_e| |E0 v + P v|, or through q below for the columns that bound f_k, plus
+  // fixed point bounds both (rho1: |d_e| |E0 v + P v|, or through q for the columns that bound f_k, plus
   // alpha B_v).
   // Paper, 2 threads: 45 333 -> 44 207 boxes at +-0.5 mm, 139 371 -> 121 951 at +-1 mm; h = 0 has no entries.
-  const DMat e0v = absSv;  // >= |E0 V| (the product above, midpoint-radius)
-  // q(e, j) = sum_i dev_i |c_e . (D_i v_j)| (c_e: the centre of d_e's affine form), pvr >= sum_i dev_i (the radius of
-  // D_i v and its rounding): |d_e . (P v)| <= q + devE |P v| + |c_e| pvr (below). For the columns that bound f_k.
-  EntryMat q;
-  DMat pvr;
-  if (affine_ && forBounds) {
-    q = EntryMat::Zero(entries_, m);
-    pvr = DMat::Zero(n_, m);
-    for (int i = 0; i < vars_; ++i) {
-      pvr += (dvr_i[i] + kGamma * dvm_i[i].cwiseAbs()) * devMag_[i];
-      EntryMat* keep = out.bilinear ? &out.q1[i] : nullptr;
-      if (keep) keep->resize(entries_, m);
-      for (int j = 0; j < m; ++j) {
-        double dot[kEntries];
-        for (int e = 0; e < entries_; ++e) dot[e] = 0.0;
-        for (int l = 0; l < n_; ++l) {
-          const double x = dvm_i[i](l, j);
-          for (int e = 0; e < entries_; ++e) dot[e] += affCentre_[l][e] * x;
-        }
-        double* col = &q(0, j);
-        for (int e = 0; e < entries_; ++e) col[e] += std::abs(dot[e]) * devMag_[i];
-        if (keep)
-          for (int e = 0; e < entries_; ++e) (*keep)(e, j) = dot[e];
-      }
-    }
-    pvr = upAll(pvr);
+  s.spread = upAll(DMat(s.delta + s.e0v));
+  const DMat first = upAll(DMat(upAll(DMat(s.e0v + s.pv)) + s.lv));
+  bool joint = false;
+  if (entries_ > 0 && jointOk_) joint = boundSpreadJointly(first, s);
+  // (Without the joint bound, the |E| one; with it, the |E| one never kept fewer boxes: the same counts on paper.)
+  DMat fp;
+  if (!joint && majorant(first, fp)) s.spread = s.spread.cwiseMin(fp);
+}
+
+bool AffineInverseAction::boundSpreadJointly(const DMat& first, ColumnTerms& s) const {
+  // rho1 >= |d_e . (E0 v + P v + L v)|
+  const int m = s.m;
+  EntryMat dpv = nonNegativeProduct(magG_, DMat(upAll(DMat(s.e0v + s.pv))));
+  if (s.q.rows() == entries_) {
+    dpv = dpv.cwiseMin(upAll(EntryMat(upAll(s.q) + poseDotRestOnce(s))));
   }
-  DMat spread = upAll(DMat(delta + e0v));
-  // >= devE |P v| + |c_e| pvr + |d_e| |E0 v| (the part of |d_e . (S y)|'s bound beyond q and d_e . S (y - v), below;
-  // only with q), and dS spread for the final spread (empty if not computed).
-  EntryMat poseDotRest, dsSpread;
-  const auto poseDotRestOnce = [&]() -> const EntryMat& {
-    if (poseDotRest.rows() != entries_)
-      poseDotRest = upAll(
-          EntryMat(nonNegativeProduct(devE_, pv) + nonNegativeProduct(absCe_, pvr) + nonNegativeProduct(magG_, e0v)));
-    return poseDotRest;
-  };
-  EntryMat rhoJoint;  // >= |d_e . (y - v)| from the joint system below (empty if not solved)
-  DMat bRhoJoint;     // >= R(|d_e . (y - v)|) from it
-  {
-    const DMat first = upAll(DMat(upAll(DMat(e0v + pv)) + lv));
-    bool joint = false;
-    if (entries_ > 0 && jointOk_) {
-      // rho1 >= |d_e . (E0 v + P v + L v)|
-      EntryMat dpv = nonNegativeProduct(magG_, DMat(upAll(DMat(e0v + pv))));
-      if (q.rows() == entries_) {
-        dpv = dpv.cwiseMin(upAll(EntryMat(upAll(q) + poseDotRestOnce())));
-      }
-      const EntryMat rho1 = upAll(EntryMat(dpv + nonNegativeProduct(alpha_, bV)));
-      JMat rhs(2 * n_, m), x;
-      rhs.topRows(n_) = first;
-      rhs.bottomRows(n_) = rowSums(rho1);
-      if (fixedPoint(joint_, jointInv_, rhs, x)) {
-        spread = spread.cwiseMin(DMat(x.topRows(n_)));
-        bRhoJoint = x.bottomRows(n_);
-        dsSpread = nonNegativeProduct(dS_, spread);  // (spread is final: the |E| bound below is only without it)
-        rhoJoint = upAll(EntryMat(rho1 + dsSpread + nonNegativeProduct(alpha_, bRhoJoint)));
-        joint = true;
-      }
-    }
-    // (Without the joint bound, the |E| one; with it, the |E| one never kept fewer boxes: the same counts on paper.)
-    DMat fp;
-    if (!joint && majorant(first, fp)) spread = spread.cwiseMin(fp);
-  }
+  const EntryMat rho1 = upAll(EntryMat(dpv + nonNegativeProduct(alpha_, s.bV)));
+  JMat rhs(2 * n_, m), x;
+  rhs.topRows(n_) = first;
+  rhs.bottomRows(n_) = rowSums(rho1, m);
+  if (!fixedPoint(joint_, jointInv_, rhs, x)) return false;
+  s.spread = s.spread.cwiseMin(DMat(x.topRows(n_)));
+  s.bRhoJoint = x.bottomRows(n_);
+  s.dsSpread = nonNegativeProduct(dS_, s.spread);  // (spread is final: the |E| bound is only without it)
+  s.rhoJoint = upAll(EntryMat(rho1 + s.dsSpread + nonNegativeProduct(alpha_, s.bRhoJoint)));
+  return true;
+}
+
+void AffineInverseAction::boundPoseProduct(ColumnTerms& s) const {
   // sy >= |S y| (S = E0 + P, the pose part of E) through y = v + (y - v): |S y| <= |S v| + |S| |y - v|, where
   // |S v| <= |E0 v| + |P v| keeps the cancellations inside S v and |y - v| <= spread is mostly well below z >= |y|.
   // The bounds through |S| z below are valid too: the smaller is kept. (Paper workspace, 2 threads: 5% fewer boxes
   // at +-0.5 mm, with the hints below 11%, bench/RESULTS.md.)
-  absSv = upAll(DMat(e0v + pv));
-  DMat sy = upAll(DMat(absSv + upAll(DMat(mul<DMat>(magS_, spread)))));
-  if (entries_ > 0) {
-    // And through S (y - v) = -S E0 v - S P v - S L v + S E (E y) with |S L v| = |S C Lambda_v| <= |S C| B_v (the
-    // dot products d_e . v and S C keep their cancellations, which |S| |L v| loses; paper, 2 threads: 46 895 ->
-    // 46 133 boxes at +-0.5 mm, 158 999 -> 154 345 at +-1 mm).
-    const DMat sLv = upAll(DMat(mul<DMat>(sc_, bV)));
-    const DMat other = upAll(DMat(upAll(DMat(e0v + pv)) + upAll(DMat(mul<DMat>(magE_, spread)))));
-    sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(mul<DMat>(magS_, other))) + sLv)))));
-    if (bRhoJoint.rows() == n_) {
-      // S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)), |S L x| = |S C Lambda_x| <= |S C| R(|d_e . x|).
-      const DMat inner = upAll(DMat(absSv + upAll(DMat(mul<DMat>(magS_, spread)))));
-      const DMat sl = upAll(DMat(mul<DMat>(sc_, upAll(DMat(bV + bRhoJoint)))));
-      sy = sy.cwiseMin(upAll(DMat(absSv + upAll(DMat(upAll(DMat(mul<DMat>(magS_, inner))) + sl)))));
-    }
+  s.absSv = upAll(DMat(s.e0v + s.pv));
+  s.sy = upAll(DMat(s.absSv + upAll(DMat(mul<DMat>(magS_, s.spread)))));
+  if (entries_ <= 0) return;
+  // And through S (y - v) = -S E0 v - S P v - S L v + S E (E y) with |S L v| = |S C Lambda_v| <= |S C| B_v (the
+  // dot products d_e . v and S C keep their cancellations, which |S| |L v| loses; paper, 2 threads: 46 895 ->
+  // 46 133 boxes at +-0.5 mm, 158 999 -> 154 345 at +-1 mm).
+  const DMat sLv = upAll(DMat(mul<DMat>(sc_, s.bV)));
+  const DMat other = upAll(DMat(upAll(DMat(s.e0v + s.pv)) + upAll(DMat(mul<DMat>(magE_, s.spread)))));
+  s.sy = s.sy.cwiseMin(upAll(DMat(s.absSv + upAll(DMat(upAll(DMat(mul<DMat>(magS_, other))) + sLv)))));
+  if (s.bRhoJoint.rows() == n_) {
+    // S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)), |S L x| = |S C Lambda_x| <= |S C| R(|d_e . x|).
+    const DMat inner = upAll(DMat(s.absSv + upAll(DMat(mul<DMat>(magS_, s.spread)))));
+    const DMat sl = upAll(DMat(mul<DMat>(sc_, upAll(DMat(s.bV + s.bRhoJoint)))));
+    s.sy = s.sy.cwiseMin(upAll(DMat(s.absSv + upAll(DMat(upAll(DMat(mul<DMat>(magS_, inner))) + sl)))));
   }
-  EntryMat gsy;  // >= |d_e . (S y)|: |d_e| |S y|, and with the affine forms of d_e (below) the smaller bound
-  if (entries_ > 0) gsy = nonNegativeProduct(magG_, sy);
-  // With the affine forms of d_e (centre c_e, |d_e - c_e| <= devE), d_e . (S y) = d_e . (E0 v) + d_e . (P v)
-  // + d_e . (S (y - v)) and d_e . (P v) = (d_e - c_e) . (P v) + sum_i dev_i tau_i c_e . (T_i v), T_i v in
-  // [D_i v -+ dvr_i], so
+}
+
+void AffineInverseAction::boundPoseDotsByCentre(ColumnTerms& s) const {
+  // gsy >= |d_e . (S y)| is |d_e| |S y| (apply()); with the affine forms of d_e (centre c_e, |d_e - c_e| <= devE),
+  // d_e . (S y) = d_e . (E0 v) + d_e . (P v) + d_e . (S (y - v)) and d_e . (P v) = (d_e - c_e) . (P v) + sum_i dev_i
+  // tau_i c_e . (T_i v), T_i v in [D_i v -+ dvr_i], so
   //   |d_e . (S y)| <= sum_i dev_i |c_e . D_i v| + rest,
   //   rest = devE |P v| + |c_e| sum_i dev_i dvr_i + |d_e| |E0 v| + |d_e^T S| |y - v|,
   // which keeps the cancellations inside c_e . (D_i v) (first order in the box) where |d_e| |S y| adds up the
   // components of S y. (The c_e . (D_i v) are computed in floating point: kGamma |c_e| |D_i v| in rest covers that.)
-  // Only for columns that bound f_k (forBounds): for J's signs it costs more time than the boxes it removes save
-  // (paper, 1 thread: +-0.5 mm 46 545 instead of 46 895 boxes but 2.5% more time; +-1 mm 153 155 instead of
-  // 158 999, the same time within the noise).
-  EntryMat dotRest;
-  if (affine_ && forBounds) {
-    // |d_e . S (y - v)| <= dS spread, or through S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)):
-    // dS (|E0 v| + |P v| + |S| spread) + |d_e^T S C| R(|d_e . v| + rho).
-    if (dsSpread.rows() != entries_) dsSpread = nonNegativeProduct(dS_, spread);
-    if (bRhoJoint.rows() == n_)
-      dsSpread = dsSpread.cwiseMin(
-          upAll(EntryMat(nonNegativeProduct(dS_, DMat(upAll(DMat(absSv + upAll(DMat(mul<DMat>(magS_, spread))))))) +
-                         nonNegativeProduct(dSC_, DMat(upAll(DMat(bV + bRhoJoint)))))));
-    dotRest = upAll(EntryMat(poseDotRestOnce() + dsSpread));
-    gsy = gsy.cwiseMin(upAll(EntryMat(upAll(q) + dotRest)));
-  }
-  EntryMat rho = nonNegativeProduct(magG_, spread);
-  if (rhoJoint.rows() == entries_ && rhoJoint.cols() == m) rho = rho.cwiseMin(rhoJoint);
-  EntryMat beta = upAll(EntryMat(magDV + rho));
+  // Only for columns that bound f_k (Refinements::ForErrorBounds): for J's signs it costs more time than the boxes it
+  // removes save (paper, 1 thread: +-0.5 mm 46 545 instead of 46 895 boxes but 2.5% more time; +-1 mm 153 155
+  // instead of 158 999, the same time within the noise).
+  // |d_e . S (y - v)| <= dS spread, or through S (y - v) = -S (E0 v + P v) - S S (y - v) - S L (v + (y - v)):
+  // dS (|E0 v| + |P v| + |S| spread) + |d_e^T S C| R(|d_e . v| + rho).
+  if (s.dsSpread.rows() != entries_) s.dsSpread = nonNegativeProduct(dS_, s.spread);
+  if (s.bRhoJoint.rows() == n_)
+    s.dsSpread = s.dsSpread.cwiseMin(
+        upAll(EntryMat(nonNegativeProduct(dS_, DMat(upAll(DMat(s.absSv + upAll(DMat(mul<DMat>(magS_, s.spread))))))) +
+                       nonNegativeProduct(dSC_, DMat(upAll(DMat(s.bV + s.bRhoJoint)))))));
+  s.dotRest = upAll(EntryMat(poseDotRestOnce(s) + s.dsSpread));
+  s.gsy = s.gsy.cwiseMin(upAll(EntryMat(upAll(s.q) + s.dotRest)));
+}
+
+void AffineInverseAction::refineDots(ColumnTerms& s, AffineMatrix& out) const {
+  const int m = s.m;
+  s.rho = nonNegativeProduct(magG_, s.spread);
+  if (s.rhoJoint.rows() == entries_ && s.rhoJoint.cols() == m) s.rho = s.rho.cwiseMin(s.rhoJoint);
+  s.beta = upAll(EntryMat(s.magDV + s.rho));
   // Then one refinement: y - v = -(E0 + P) y - L y with L y = sum_i C_{.,i} (delta_i . y), so
   //   |d_e . (y - v)| <= |d_e| |E0 + P| z + sum_i alpha(e, i) B_i   and   |y| <= |v| + |E0 + P| z + |C| B,
   // with B_i = sum over row i's entries of h_p beta >= |delta_i . y|: it maps valid bounds to valid bounds, and the
   // dot products d_e . C_{.,i} keep their cancellations, where |d_e| spread and |E| z did not. (Measured: a second
   // pass gains a tenth of the first at a sixth of the cost per box; not worth it.)
-  DMat b = rowSums(beta);
-  {
-    const DMat pz = upAll(DMat(mul<DMat>(magS_, z))).cwiseMin(sy);  // >= |(E0 + P) y|, |E0 + P| <= |S|
-    EntryMat dsz = nonNegativeProduct(dS_, z);                      // >= |d_e . (S y)|
-    if (entries_ > 0) dsz = dsz.cwiseMin(gsy);
-    // The same refinement to its fixed point: with rho <= dsz + alpha B, B = R(|d_e . v| + rho) satisfies
-    // B <= R(|DV|) + R(dsz) + R(alpha) B (R: the row sums of h x, linear), so B <= (I - R(alpha))^-1 (...), verified
-    // (R(alpha) is n x n: cheap); the smaller bound is kept.
-    if (entries_ > 0 && alphaRowsOk_) {
-      DMat fixed;
-      const DMat rhs = upAll(DMat(bV + rowSums(dsz)));
-      if (fixedPoint(alphaRows_, alphaRowsInv_, rhs, fixed)) b = b.cwiseMin(fixed);
-    }
-    const EntryMat rho2 = upAll(EntryMat(dsz + nonNegativeProduct(alpha_, b)));
-    const DMat z2 = upAll(DMat(absV + pz + upAll(DMat(mul<DMat>(absC_, b)))));
-    rho = rho.cwiseMin(rho2);
-    z = z.cwiseMin(z2);
-    out.sigma = nonNegativeProduct(dS_, z);
-    if (entries_ > 0) out.sigma = out.sigma.cwiseMin(gsy);
-    beta = upAll(EntryMat(magDV + rho));
-    b = rowSums(beta);
+  s.b = rowSums(s.beta, m);
+  const DMat pz = upAll(DMat(mul<DMat>(magS_, s.z))).cwiseMin(s.sy);  // >= |(E0 + P) y|, |E0 + P| <= |S|
+  EntryMat dsz = nonNegativeProduct(dS_, s.z);                        // >= |d_e . (S y)|
+  if (entries_ > 0) dsz = dsz.cwiseMin(s.gsy);
+  // The same refinement to its fixed point: with rho <= dsz + alpha B, B = R(|d_e . v| + rho) satisfies
+  // B <= R(|DV|) + R(dsz) + R(alpha) B (R: the row sums of h x, linear), so B <= (I - R(alpha))^-1 (...), verified
+  // (R(alpha) is n x n: cheap); the smaller bound is kept.
+  if (entries_ > 0 && alphaRowsOk_) {
+    DMat fixed;
+    const DMat rhs = upAll(DMat(s.bV + rowSums(dsz, m)));
+    if (fixedPoint(alphaRows_, alphaRowsInv_, rhs, fixed)) s.b = s.b.cwiseMin(fixed);
   }
+  const EntryMat rho2 = upAll(EntryMat(dsz + nonNegativeProduct(alpha_, s.b)));
+  const DMat z2 = upAll(DMat(s.absV + pz + upAll(DMat(mul<DMat>(absC_, s.b)))));
+  s.rho = s.rho.cwiseMin(rho2);
+  s.z = s.z.cwiseMin(z2);
+  out.sigma = nonNegativeProduct(dS_, s.z);
+  if (entries_ > 0) out.sigma = out.sigma.cwiseMin(s.gsy);
+  s.beta = upAll(EntryMat(s.magDV + s.rho));
+  s.b = rowSums(s.beta, m);
+}
+
+DMat AffineInverseAction::boundRemainder(ColumnTerms& s, AffineMatrix& out) const {
   // Gamma = alpha B;  L L Y <= cgh Gamma.
-  const EntryMat gamma = nonNegativeProduct(alpha_, b);
+  s.gamma = nonNegativeProduct(alpha_, s.b);
   // E^2 Y = S S Y + S L Y + L S Y + L L Y (S: pose part with E0, L: geometry part):
   //   |S S y| <= |S| min(|S| z, sy);   |S L y| = |S C Lambda| <= |S C| B (the dot products d_e . y keep their
   //   cancellations); |L S y| <= cgh |d_e . (S y)| <= cgh min(dS z, |d_e| sy);   |L L y| <= cgh Gamma.
   // (And through |S S| <= magS2_, whose products keep their cancellations: |S S y| <= magS2_ z, and with
   // y = v + (y - v), |S S y| <= |S| |S v| + magS2_ |y - v|. Paper, 2 threads: h = 0 2 583 -> 2 319 boxes, +-0.5 mm
   // 5 007 -> 4 631, +-1 mm 10 127 -> 9 763.)
-  const DMat ssy =
-      upAll(DMat(mul<DMat>(magS_, upAll(DMat(mul<DMat>(magS_, z))).cwiseMin(sy))))
-          .cwiseMin(upAll(DMat(mul<DMat>(magS2_, z))))
-          .cwiseMin(upAll(DMat(upAll(DMat(mul<DMat>(magS_, absSv))) + upAll(DMat(mul<DMat>(magS2_, spread))))));
-  const DMat sly = upAll(DMat(mul<DMat>(sc_, b)));
-  const DMat lsy = chProduct(out.sigma);
-  const DMat ll = chProduct(gamma);
-  const DMat remainder = upAll(DMat(upAll(DMat(ssy + sly)) + upAll(DMat(lsy + ll))));
-  out.dvm = dvm;
-  out.dvr = dvr;
-  out.rho = rho;
+  s.ssy = upAll(DMat(mul<DMat>(magS_, upAll(DMat(mul<DMat>(magS_, s.z))).cwiseMin(s.sy))))
+              .cwiseMin(upAll(DMat(mul<DMat>(magS2_, s.z))))
+              .cwiseMin(upAll(DMat(upAll(DMat(mul<DMat>(magS_, s.absSv))) + upAll(DMat(mul<DMat>(magS2_, s.spread))))));
+  s.sly = upAll(DMat(mul<DMat>(sc_, s.b)));
+  s.lsy = chProduct(out.sigma, s.m);
+  const DMat ll = chProduct(s.gamma, s.m);
+  out.dvm = s.dvm;
+  out.dvr = s.dvr;
+  out.rho = s.rho;
   out.ll = ll;
-  out.ssy = ssy;
-  out.sy = sy;
-  out.cross = upAll(DMat(sly + lsy));
+  out.ssy = s.ssy;
+  out.sy = s.sy;
+  out.cross = upAll(DMat(s.sly + s.lsy));
+  return upAll(DMat(upAll(DMat(s.ssy + s.sly)) + upAll(DMat(s.lsy + ll))));
+}
+
+void AffineInverseAction::writePoseForms(ColumnTerms& s, const DMat& remainder, AffineMatrix& out) const {
   // Affine forms (N V = Y0 - sum_i D_i V dev_i - sum_p G_p V dev_p + E^2 N V). Pose terms -(D_i V)(k, j) (t_i - t0_i)
   // = -[pm +- pr] devMag tau_i: coefficient -pm devMag, the rest
   // (pr devMag and the rounding of the product) to the radius. Geometry terms (G_p V)(k, j) (g_p - g0_p) with
   // (G_p V)(k, j) = sum over the entries e of p of C_{k,row(e)} [dvm +- dvr](e, j): coefficient
-  // sum_e C_{k,row(e)} dvm(e, j) h_p, the rest (|C| h dvr and the roundings) to the radius.
+  // sum_e C_{k,row(e)} dvm(e, j) h_p, the rest (|C| h dvr and the roundings) to the radius (writeGeometryForms()).
   out.rows = n_;
-  out.cols = m;
+  out.cols = s.m;
   out.vars = vars_;
   out.params = params_;
-  out.centre = ym;
-  DMat radius = upAll(DMat(yr + remainder));
-  DMat poseRadius = DMat::Zero(n_, m);
+  out.centre = s.ym;
+  s.radius = upAll(DMat(s.yr + remainder));
+  s.poseRadius = DMat::Zero(n_, s.m);
   for (int i = 0; i < vars_; ++i) {
-    const DMat& pm = dvm_i[i];
-    const DMat& pr = dvr_i[i];
+    const DMat& pm = s.dvmI[i];
+    const DMat& pr = s.dvrI[i];
     out.pose[i] = -pm * devMag_[i];
     out.poseSpread[i] = upAll(DMat(upAll(DMat(pr * devMag_[i])) + kGamma * out.pose[i].cwiseAbs()));
-    radius += out.poseSpread[i];
-    poseRadius += out.poseSpread[i];
+    s.radius += out.poseSpread[i];
+    s.poseRadius += out.poseSpread[i];
   }
-  if (out.bilinear) {
-    // The bilinear form (bilinearCoefficients()): the products tau_i gamma_e of
-    //   -L v     through d_e . v = c_e . v + sum_i (s_{e,i} . v) tau'_i + ...,   and of
-    //   S L y + L S y = [P_m L_c v + L_c P_m v] + S L (y - v) + E0 L v + (P L v - P_m L_c v)
-    //                                          + L S (y - v) + L E0 v + (L P v - L_c P_m v),
-    // P = sum_i T_i dev_i tau_i the pose part of E (T_i in [dm_i -+ dr_i], P_m with the midpoints), L_c v and
-    // L_c P_m v with c_e . v and c_e . (D_i v) at their computed midpoints dvm, q1. The rest, in magnitude:
-    //   |S L (y - v)| <= |S C| B_rho,   |E0 L v| <= |E0| |C| B_v,   |(P - P_m) L v| <= (sum_i dr_i dev_i) |C| B_v,
-    //   |P_m (L v - L_c v)| <= (sum_i |D_i C| dev_i) B_dvr,   (B_x: row sums of h x over the entries of each row)
-    //   |d_e . (S (y - v))| <= dS spread,   |d_e . (E0 v)| <= |d_e| |E0 v|,
-    //   |(d_e - c_e) . (P v)| <= devE |P v|,   |c_e . ((P - P_m) v)| <= |c_e| sum_i dvr_i dev_i
-    // (dotRest above; the last also covers the rounding of q1), times |C| h (chProduct). With the first-order parts'
-    // radii (poseSpread, |C| h dvr0: d_e . v without its slope part) and |S S y| as above.
-    const DMat bRho = rowSums(rho);
-    const DMat bDvr = rowSums(dvr);
-    const DMat rowPart = upAll(DMat(upAll(DMat(mul<DMat>(sc_, bRho))) + upAll(DMat(mul<DMat>(e0c_, bV))) +
-                                    upAll(DMat(mul<DMat>(drc_, bV))) + upAll(DMat(mul<DMat>(dmc_, bDvr)))));
-    const DMat firstOrder = chProduct(upAll(EntryMat(dvr0 + (2.0 * kGamma) * dvm.cwiseAbs())));
-    // (|L L y| is not in it: upperBilinear() bounds it with the geometry terms, from gamma and B.)
-    out.bilinearRadius = upAll(DMat(upAll(DMat(yr + ssy + poseRadius)) + firstOrder + rowPart + chProduct(dotRest)));
-    out.gammaDot = gamma;
-    out.dotRest = dotRest;
-    out.rowB = b;
-  } else {
-    for (int i = 0; i < kMaxDof; ++i) out.q1[i].resize(0, 0), out.sv[i].resize(0, 0);
-    out.gammaDot.resize(0, 0);
-    out.dotRest.resize(0, 0);
-    out.rowB.resize(0, 0);
-    out.bilinearRadius.resize(0, 0);
-  }
+}
+
+void AffineInverseAction::writeBilinear(const ColumnTerms& s, AffineMatrix& out) const {
+  // The bilinear form (bilinearCoefficients()): the products tau_i gamma_e of
+  //   -L v     through d_e . v = c_e . v + sum_i (s_{e,i} . v) tau'_i + ...,   and of
+  //   S L y + L S y = [P_m L_c v + L_c P_m v] + S L (y - v) + E0 L v + (P L v - P_m L_c v)
+  //                                          + L S (y - v) + L E0 v + (L P v - L_c P_m v),
+  // P = sum_i T_i dev_i tau_i the pose part of E (T_i in [dm_i -+ dr_i], P_m with the midpoints), L_c v and
+  // L_c P_m v with c_e . v and c_e . (D_i v) at their computed midpoints dvm, q1. The rest, in magnitude:
+  //   |S L (y - v)| <= |S C| B_rho,   |E0 L v| <= |E0| |C| B_v,   |(P - P_m) L v| <= (sum_i dr_i dev_i) |C| B_v,
+  //   |P_m (L v - L_c v)| <= (sum_i |D_i C| dev_i) B_dvr,   (B_x: row sums of h x over the entries of each row)
+  //   |d_e . (S (y - v))| <= dS spread,   |d_e . (E0 v)| <= |d_e| |E0 v|,
+  //   |(d_e - c_e) . (P v)| <= devE |P v|,   |c_e . ((P - P_m) v)| <= |c_e| sum_i dvr_i dev_i
+  // (dotRest; the last also covers the rounding of q1), times |C| h (chProduct). With the first-order parts'
+  // radii (poseSpread, |C| h dvr0: d_e . v without its slope part) and |S S y| as above.
+  const int m = s.m;
+  const DMat bRho = rowSums(s.rho, m);
+  const DMat bDvr = rowSums(s.dvr, m);
+  const DMat rowPart = upAll(DMat(upAll(DMat(mul<DMat>(sc_, bRho))) + upAll(DMat(mul<DMat>(e0c_, s.bV))) +
+                                  upAll(DMat(mul<DMat>(drc_, s.bV))) + upAll(DMat(mul<DMat>(dmc_, bDvr)))));
+  const DMat firstOrder = chProduct(upAll(EntryMat(s.dvr0 + (2.0 * kGamma) * s.dvm.cwiseAbs())), m);
+  // (|L L y| is not in it: upperBilinear() bounds it with the geometry terms, from gamma and B.)
+  out.bilinearRadius =
+      upAll(DMat(upAll(DMat(s.yr + s.ssy + s.poseRadius)) + firstOrder + rowPart + chProduct(s.dotRest, m)));
+  out.gammaDot = s.gamma;
+  out.dotRest = s.dotRest;
+  out.rowB = s.b;
+}
+
+void AffineInverseAction::sharePoseRemainder(const ColumnTerms& s, AffineMatrix& out) const {
   // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
   // shrink with the pose box too, so each pose variable's poseSpread also gets a share of them, in proportion to its
   // part of |P| (row sums of |D_i| |dev_i|). The shares add up to at most these terms, so poseSpread stays a part of
   // the radius. (Paper workspace, 2 threads: 6-7% fewer boxes, with and without anchor uncertainty.)
-  if (vars_ > 0) {
-    const DMat poseRem = ssy + sly + lsy;
-    for (int k = 0; k < n_; ++k) {
-      double total = 0.0;
-      for (int i = 0; i < vars_; ++i) total += poseWeight_[i][k];
-      if (!(total > 0.0)) continue;
-      for (int i = 0; i < vars_; ++i) {
-        const double share = poseWeight_[i][k] / total;
-        for (int j = 0; j < m; ++j) out.poseSpread[i](k, j) += poseRem(k, j) * share;
-      }
+  if (vars_ <= 0) return;
+  const DMat poseRem = s.ssy + s.sly + s.lsy;
+  for (int k = 0; k < n_; ++k) {
+    double total = 0.0;
+    for (int i = 0; i < vars_; ++i) total += poseWeight_[i][k];
+    if (!(total > 0.0)) continue;
+    for (int i = 0; i < vars_; ++i) {
+      const double share = poseWeight_[i][k] / total;
+      for (int j = 0; j < s.m; ++j) out.poseSpread[i](k, j) += poseRem(k, j) * share;
     }
   }
+}
+
+void AffineInverseAction::writeGeometryForms(ColumnTerms& s, AffineMatrix& out) const {
   // |C| h dvr, plus the rounding of the coefficient sums below (at most a few products and sums each, relative
   // error < kGamma of sum |terms|, i.e. kGamma cgh |dvm|).
-  radius += chProduct(upAll(EntryMat(dvr + (2.0 * kGamma) * dvm.cwiseAbs())));
-  for (int j = 0; j < m; ++j) {
+  s.radius += chProduct(upAll(EntryMat(s.dvr + (2.0 * kGamma) * s.dvm.cwiseAbs())), s.m);
+  for (int j = 0; j < s.m; ++j) {
     GMat& g = out.geometry[j];
     g = GMat::Zero(n_, params_);
     for (int e = 0; e < entries_; ++e) {
-      const double d = dvm(e, j) * h_[param_[e]];
+      const double d = s.dvm(e, j) * h_[param_[e]];
       for (int k = 0; k < n_; ++k) g(k, param_[e]) -= cg_(k, e) * d;
     }
   }
-  out.radius = upAll(radius);
+  out.radius = upAll(s.radius);
   out.splitRadius = out.radius;
-  return out.radius.allFinite() && out.centre.allFinite();
 }
 
 void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr, EntryMat* dr0,
@@ -989,73 +1118,28 @@ double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, con
   //   u_e = delta_e . v - delta_e . (S y) - T_e   (y - v = -(E0 + P) y - L y),  |delta_e . (S y)| <= sigma,
   // with T_e from the first u: on the face T_e keeps the signs of its first-order part, so the width of u drops from
   // first to second order in h (with every parameter free it is the refinement apply() already made).
-  double um[kEntries], ur[kEntries], tm[kEntries], tr[kEntries];
+  FaceTerms f;
   for (int e = 0; e < entries_; ++e) {
-    um[e] = a.dvm(e, j);
-    ur[e] = addUp(a.dvr(e, j), a.rho(e, j));
+    f.um[e] = a.dvm(e, j);
+    f.ur[e] = addUp(a.dvr(e, j), a.rho(e, j));
   }
-  double lm[kMaxDof], lr[kMaxDof];
-  auto lambdas = [&]() {
-    double scale[kMaxDof];
-    for (int i = 0; i < n_; ++i) lm[i] = lr[i] = scale[i] = 0.0;
-    for (int e = 0; e < entries_; ++e) {
-      const int i = row_[e];
-      const double h = h_[param_[e]];
-      const double sp = s[param_[e]];
-      if (sp != 0.0) {
-        const double t = h * sp * um[e];
-        lm[i] += t;
-        scale[i] += std::abs(t);
-        lr[i] += h * ur[e];
-      } else {
-        lr[i] += h * (std::abs(um[e]) + ur[e]);
-      }
-    }
-    for (int i = 0; i < n_; ++i) lr[i] = up(lr[i] + kGamma * scale[i]);
-  };
-  auto dots = [&]() {
-    for (int e = 0; e < entries_; ++e) {
-      double m = 0.0, r = 0.0, scale = 0.0;
-      for (int i = 0; i < n_; ++i) {
-        const double am = dcm_(e, i), ar = dcr_(e, i);
-        m += am * lm[i];
-        scale += std::abs(am * lm[i]);
-        r += std::abs(am) * lr[i] + ar * (std::abs(lm[i]) + lr[i]);
-      }
-      tm[e] = m;
-      tr[e] = up(r + kGamma * scale);
-    }
-  };
-  lambdas();
-  dots();
+  faceLambdas(s, f);
+  faceDots(f);
   for (int e = 0; e < entries_; ++e) {
-    const double m1 = a.dvm(e, j) - tm[e];
-    const double r1 = up(a.dvr(e, j) + a.sigma(e, j) + tr[e] + kGamma * (std::abs(a.dvm(e, j)) + std::abs(tm[e])));
+    const double m1 = a.dvm(e, j) - f.tm[e];
+    const double r1 = up(a.dvr(e, j) + a.sigma(e, j) + f.tr[e] + kGamma * (std::abs(a.dvm(e, j)) + std::abs(f.tm[e])));
     // Both enclose u_e: intersect them.
-    const double lo = std::max(subDown(um[e], ur[e]), subDown(m1, r1));
-    const double hi = std::min(addUp(um[e], ur[e]), addUp(m1, r1));
+    const double lo = std::max(subDown(f.um[e], f.ur[e]), subDown(m1, r1));
+    const double hi = std::min(addUp(f.um[e], f.ur[e]), addUp(m1, r1));
     if (!(lo <= hi)) continue;  // cannot happen (both contain u_e) unless NaN; keep the first
     const double mid = 0.5 * (lo + hi);
-    um[e] = mid;
-    ur[e] = up(std::max(subUp(mid, lo), subUp(hi, mid)));
+    f.um[e] = mid;
+    f.ur[e] = up(std::max(subUp(mid, lo), subUp(hi, mid)));
   }
-  lambdas();
-  dots();
-  // (L L y)_k = sum_e C_{k,row(e)} h_e gamma_e T_e.
-  double llm = 0.0, llr = 0.0, llScale = 0.0;
-  for (int e = 0; e < entries_; ++e) {
-    const double ch = c_(k, row_[e]) * h_[param_[e]];
-    const double sp = s[param_[e]];
-    if (sp != 0.0) {
-      const double t = ch * sp * tm[e];
-      llm += t;
-      llScale += std::abs(t);
-      llr += std::abs(ch) * tr[e];
-    } else {
-      llr += std::abs(ch) * (std::abs(tm[e]) + tr[e]);
-    }
-  }
-  llr = up(llr + kGamma * llScale);
+  faceLambdas(s, f);
+  faceDots(f);
+  double llm = 0.0, llr = 0.0;
+  faceLL(k, s, f, llm, llr);
   // The entry on the face: centre + sum_i |pose_i| + sum_p (s_p geometry_p on the face, |geometry_p| elsewhere)
   // + (radius - |L L y| bound) + [L L y on the face].
   double positive = subUp(a.radius(k, j), a.ll(k, j));
@@ -1072,6 +1156,59 @@ double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, con
   }
   positive = up(positive + kGamma * (scale + std::abs(a.centre(k, j))));
   return addUp(addUp(addUp(a.centre(k, j), positive), signedSum), addUp(llm, llr));
+}
+
+void AffineInverseAction::faceLambdas(const double* s, FaceTerms& f) const {
+  // Lambda_i = sum over the entries e of row i of h_e gamma_e u_e (upperOnFace()), midpoint lm and radius lr.
+  double scale[kMaxDof];
+  for (int i = 0; i < n_; ++i) f.lm[i] = f.lr[i] = scale[i] = 0.0;
+  for (int e = 0; e < entries_; ++e) {
+    const int i = row_[e];
+    const double h = h_[param_[e]];
+    const double sp = s[param_[e]];
+    if (sp != 0.0) {
+      const double t = h * sp * f.um[e];
+      f.lm[i] += t;
+      scale[i] += std::abs(t);
+      f.lr[i] += h * f.ur[e];
+    } else {
+      f.lr[i] += h * (std::abs(f.um[e]) + f.ur[e]);
+    }
+  }
+  for (int i = 0; i < n_; ++i) f.lr[i] = up(f.lr[i] + kGamma * scale[i]);
+}
+
+void AffineInverseAction::faceDots(FaceTerms& f) const {
+  // T_e = sum_i (delta_e . C_{.,i}) Lambda_i (upperOnFace()), midpoint tm and radius tr.
+  for (int e = 0; e < entries_; ++e) {
+    double m = 0.0, r = 0.0, scale = 0.0;
+    for (int i = 0; i < n_; ++i) {
+      const double am = dcm_(e, i), ar = dcr_(e, i);
+      m += am * f.lm[i];
+      scale += std::abs(am * f.lm[i]);
+      r += std::abs(am) * f.lr[i] + ar * (std::abs(f.lm[i]) + f.lr[i]);
+    }
+    f.tm[e] = m;
+    f.tr[e] = up(r + kGamma * scale);
+  }
+}
+
+void AffineInverseAction::faceLL(int k, const double* s, const FaceTerms& f, double& llm, double& llr) const {
+  // (L L y)_k = sum_e C_{k,row(e)} h_e gamma_e T_e.
+  double llScale = 0.0;
+  for (int e = 0; e < entries_; ++e) {
+    const double ch = c_(k, row_[e]) * h_[param_[e]];
+    const double sp = s[param_[e]];
+    if (sp != 0.0) {
+      const double t = ch * sp * f.tm[e];
+      llm += t;
+      llScale += std::abs(t);
+      llr += std::abs(ch) * f.tr[e];
+    } else {
+      llr += std::abs(ch) * (std::abs(f.tm[e]) + f.tr[e]);
+    }
+  }
+  llr = up(llr + kGamma * llScale);
 }
 
 void AffineInverseAction::bilinearEntry(const AffineMatrix& a, int k, int j, int e, double* m, double& scale) const {
@@ -1234,85 +1371,101 @@ double AffineInverseAction::Combination::lower() const {
 
 void AffineInverseAction::tightenByResidual(const IMat& v, AffineMatrix& a) const {
   if (!residualOk_ || a.params != 0 || a.vars != vars_ || a.rows != n_ || v.rows() != n_ || v.cols() != a.cols) return;
-  if (!magNOk_) {
-    if (magNFailed_) return;
-    // |N| over the box from N's own forms: N = N I.
-    static thread_local AffineMatrix nf;
-    IMat eye(n_, n_);
-    for (int j = 0; j < n_; ++j)
-      for (int l = 0; l < n_; ++l) eye(l, j) = Interval(l == j ? 1.0 : 0.0);
-    if (!apply(eye, nf)) {
-      magNFailed_ = true;
-      return;
-    }
-    M6 mag = nf.centre.cwiseAbs() + nf.radius;
-    for (int i = 0; i < vars_; ++i) mag += nf.pose[i].cwiseAbs();
-    magN_ = upAll(mag);
-    if (!magN_.allFinite()) {
-      magNFailed_ = true;
-      return;
-    }
-    magNOk_ = true;
-  }
-  using V6 = Eigen::Matrix<double, kMaxDof, 1>;
-  const M6 e0m = e0m_, e0r = e0r_, absE0 = e0m.cwiseAbs();
-  double dev[kMaxDof];
-  for (int i = 0; i < n_; ++i) dev[i] = devMag_[i];
+  if (!inverseMagnitudeReady()) return;
+  ResidualCentre centre;
+  centre.e0m = e0m_;
+  centre.e0r = e0r_;
+  centre.absE0 = centre.e0m.cwiseAbs();
+  for (int i = 0; i < n_; ++i) centre.dev[i] = devMag_[i];
   for (int j = 0; j < a.cols; ++j) {
-    V6 vm, vr, xc;
-    for (int l = 0; l < n_; ++l) {
-      split(v(l, j), vm[l], vr[l]);
-      xc[l] = a.centre(l, j);
-    }
-    V6 xm[kMaxDof], axm[kMaxDof];
-    V6 lin = V6::Zero();  // sum_m |X_m|
-    for (int m = 0; m < n_; ++m) {
-      for (int l = 0; l < n_; ++l) xm[m][l] = a.pose[m](l, j);
-      axm[m] = xm[m].cwiseAbs();
-      lin += axm[m];
-    }
-    const V6 axc = xc.cwiseAbs();
-    const V6 ax = axc + lin;  // >= |x-hat| over the box (up to rounding, covered by the margins below)
-    // The residual r(tau) = v - C J^-1(t) x-hat(tau), dt_i = dev_i tau_i, |tau_i| <= 1:
-    //   constant   vm - (I + e0m) xc
-    //   linear     -(I + e0m) X_m - dev_m G_m xc                     (G_m = rg_[m]: C D_m(t0))
-    //   quadratic  -dev_i G_i X_m - dev_m G_m X_i - f dev_i dev_m H_im xc   (pairs i <= m; f = 1/2 on the diagonal)
-    //   cubic      -f dev_i dev_m H_im sum_l X_l tau_l                  (in magnitude)
-    //   radii      vr + e0r |x-hat| + sum_i dev_i rgr_i |x-hat| + sum_{il ordered} dev_i dev_l W_il |x-hat|
-    // Each floating-point product A x is within kGamma |A| |x| of the exact one; `scale` collects those magnitudes.
-    V6 bound = (vm - xc - e0m * xc).cwiseAbs();
-    V6 scale = vm.cwiseAbs() + axc + absE0 * axc;
-    V6 rest = vr + e0r * ax;
-    V6 gxc[kMaxDof];
-    for (int m = 0; m < n_; ++m) {
-      gxc[m] = rg_[m] * xc;
-      bound += (-xm[m] - e0m * xm[m] - dev[m] * gxc[m]).cwiseAbs();
-      scale += axm[m] + absE0 * axm[m] + dev[m] * (rgAbs_[m] * axc);
-      rest += dev[m] * (rgr_[m] * ax);
-    }
-    for (int i = 0; i < n_; ++i) {
-      for (int m = i; m < n_; ++m) {
-        const int p = MatrixHessian::index(i, m);
-        const double f = i == m ? 0.5 : 1.0;
-        const double dd = dev[i] * dev[m];
-        V6 q = -dev[i] * (rg_[i] * xm[m]) - (f * dd) * (rh_[p] * xc);
-        const M6& absH = rhAbs_[p];
-        V6 qs = dev[i] * (rgAbs_[i] * axm[m]) + (f * dd) * (absH * axc);
-        if (m != i) {
-          q -= dev[m] * (rg_[m] * xm[i]);
-          qs += dev[m] * (rgAbs_[m] * axm[i]);
-        }
-        bound += q.cwiseAbs();
-        scale += qs;
-        rest += (f * dd) * (absH * lin);                      // the cubic terms
-        rest += ((i == m ? 1.0 : 2.0) * dd) * (rw_[p] * ax);  // the third-order rest (ordered pairs)
-      }
-    }
-    // Every term's rounding: at most a few roundings per product and sums of at most ~100 terms, below kGamma.
-    const V6 r = upAll(V6(upAll(bound) + upAll(rest) + 4.0 * kGamma * upAll(scale)));
-    const V6 radius = upAll(V6(magN_ * r));
+    const V6 radius = upAll(V6(magN_ * residualBound(centre, v, a, j)));
     if (!radius.allFinite()) continue;
     for (int k = 0; k < n_; ++k) a.radius(k, j) = std::min(a.radius(k, j), radius[k]);
+  }
+}
+
+bool AffineInverseAction::inverseMagnitudeReady() const {
+  if (magNOk_) return true;
+  if (magNFailed_) return false;
+  // |N| over the box from N's own forms: N = N I.
+  AffineMatrix& nf = work_.identityForms;
+  IMat eye(n_, n_);
+  for (int j = 0; j < n_; ++j)
+    for (int l = 0; l < n_; ++l) eye(l, j) = Interval(l == j ? 1.0 : 0.0);
+  if (!apply(eye, nf)) {
+    magNFailed_ = true;
+    return false;
+  }
+  M6 mag = nf.centre.cwiseAbs() + nf.radius;
+  for (int i = 0; i < vars_; ++i) mag += nf.pose[i].cwiseAbs();
+  magN_ = upAll(mag);
+  if (!magN_.allFinite()) {
+    magNFailed_ = true;
+    return false;
+  }
+  magNOk_ = true;
+  return true;
+}
+
+AffineInverseAction::V6 AffineInverseAction::residualBound(const ResidualCentre& centre, const IMat& v,
+                                                           const AffineMatrix& a, int j) const {
+  ResidualColumn x;
+  for (int l = 0; l < n_; ++l) {
+    split(v(l, j), x.vm[l], x.vr[l]);
+    x.xc[l] = a.centre(l, j);
+  }
+  x.lin = V6::Zero();  // sum_m |X_m|
+  for (int m = 0; m < n_; ++m) {
+    for (int l = 0; l < n_; ++l) x.xm[m][l] = a.pose[m](l, j);
+    x.axm[m] = x.xm[m].cwiseAbs();
+    x.lin += x.axm[m];
+  }
+  x.axc = x.xc.cwiseAbs();
+  x.ax = x.axc + x.lin;  // >= |x-hat| over the box (up to rounding, covered by the margins below)
+  // The residual r(tau) = v - C J^-1(t) x-hat(tau), dt_i = dev_i tau_i, |tau_i| <= 1:
+  //   constant   vm - (I + e0m) xc
+  //   linear     -(I + e0m) X_m - dev_m G_m xc                     (G_m = rg_[m]: C D_m(t0))
+  //   quadratic  -dev_i G_i X_m - dev_m G_m X_i - f dev_i dev_m H_im xc   (pairs i <= m; f = 1/2 on the diagonal)
+  //   cubic      -f dev_i dev_m H_im sum_l X_l tau_l                  (in magnitude)
+  //   radii      vr + e0r |x-hat| + sum_i dev_i rgr_i |x-hat| + sum_{il ordered} dev_i dev_l W_il |x-hat|
+  // Each floating-point product A x is within kGamma |A| |x| of the exact one; `scale` collects those magnitudes.
+  const M6& e0m = centre.e0m;
+  const M6& absE0 = centre.absE0;
+  const double* dev = centre.dev;
+  ResidualSums sums;
+  sums.bound = (x.vm - x.xc - e0m * x.xc).cwiseAbs();
+  sums.scale = x.vm.cwiseAbs() + x.axc + absE0 * x.axc;
+  sums.rest = x.vr + centre.e0r * x.ax;
+  for (int m = 0; m < n_; ++m) {
+    const V6 gxc = rg_[m] * x.xc;
+    sums.bound += (-x.xm[m] - e0m * x.xm[m] - dev[m] * gxc).cwiseAbs();
+    sums.scale += x.axm[m] + absE0 * x.axm[m] + dev[m] * (rgAbs_[m] * x.axc);
+    sums.rest += dev[m] * (rgr_[m] * x.ax);
+  }
+  addQuadraticResidual(dev, x, sums);
+  // Every term's rounding: at most a few roundings per product and sums of at most ~100 terms, below kGamma.
+  return upAll(V6(upAll(sums.bound) + upAll(sums.rest) + 4.0 * kGamma * upAll(sums.scale)));
+}
+
+void AffineInverseAction::addQuadraticResidual(const double* dev, const ResidualColumn& x, ResidualSums& sums) const {
+  // The residual's quadratic and cubic terms and the third-order rest (residualBound()), pair by pair.
+  for (int i = 0; i < n_; ++i) {
+    for (int m = i; m < n_; ++m) {
+      const int p = MatrixHessian::index(i, m);
+      const double f = i == m ? 0.5 : 1.0;
+      const double dd = dev[i] * dev[m];
+      V6 q = -dev[i] * (rg_[i] * x.xm[m]) - (f * dd) * (rh_[p] * x.xc);
+      const M6& absH = rhAbs_[p];
+      V6 qs = dev[i] * (rgAbs_[i] * x.axm[m]) + (f * dd) * (absH * x.axc);
+      if (m != i) {
+        q -= dev[m] * (rg_[m] * x.xm[i]);
+        qs += dev[m] * (rgAbs_[m] * x.axm[i]);
+      }
+      sums.bound += q.cwiseAbs();
+      sums.scale += qs;
+      sums.rest += (f * dd) * (absH * x.lin);                      // the cubic terms
+      sums.rest += ((i == m ? 1.0 : 2.0) * dd) * (rw_[p] * x.ax);  // the third-order rest (ordered pairs)
+    }
   }
 }
 

@@ -100,7 +100,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   // / 2 327 such boxes, the same boxes and bounds without the combined form's attempt.)
   bool decomposed = model.hasGeometryUncertainty() && box.decomposeGeometry && vars == n;
   if (decomposed) {
-    decomposed = act.prepare(model, box, false);
+    decomposed = act.prepare(model, box, AffineInverseAction::GeometryTerms::AtCentre);
     if (decomposed) {
       const DMat& c0 = act.preconditioner();
       IMat all(n, n);
@@ -113,7 +113,10 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       decomposed = built == GeometryIncrement::Preparation::Ready;
     }
   }
-  if (!decomposed && !act.prepare(model, box, model.hasGeometryUncertainty())) return false;
+  if (!decomposed && !act.prepare(model, box,
+                                  model.hasGeometryUncertainty() ? AffineInverseAction::GeometryTerms::Expanded
+                                                                 : AffineInverseAction::GeometryTerms::AtCentre))
+    return false;
   const int params = act.parameters();
   const int modelParams = decomposed ? model.geometryParameterCount() : params;
   const DMat& c = act.preconditioner();
@@ -295,7 +298,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     }
     IMat batch(n, batchSize);
     for (int q = 0; q < batchSize; ++q) batch.col(q) = columns[batchFirst + q].v;
-    if (!act.apply(batch, nv, true)) return false;
+    if (!act.apply(batch, nv, AffineInverseAction::Refinements::ForErrorBounds)) return false;
     act.tightenByResidual(batch, nv);
     for (int segment = 0; segment < segments; ++segment) {
       const int k = segmentRow[segment], offset = segmentFirst[segment], m = segmentSize[segment];
