@@ -16,7 +16,7 @@
 namespace pkm_accuracy {
 namespace enclosure {
 
-class AffineInverseAction {
+class PreconditionedInverseEnclosure {
  public:
   /// Capacity of the geometry entries (GeometryDerivatives::kCapacity).
   static constexpr int kEntries = GeometryDerivatives::kCapacity;
@@ -350,7 +350,8 @@ class AffineInverseAction {
   void addQuadraticResidual(const double* dev, const ResidualColumn& x, ResidualSums& sums) const;
 
   /// Scratch reused from box to box, so that nothing is allocated per box: the model's derivatives and Hessian
-  /// bounds (prepare()) and the forms of N I (tightenByResidual()). Callers keep one AffineInverseAction per thread.
+  /// bounds (prepare()) and the forms of N I (tightenByResidual()). Callers keep one PreconditionedInverseEnclosure per
+  /// thread.
   struct Workspace {
     GeometryDerivatives geo;
     MatrixHessian hessian, atCentre;  ///< over the box; at its centre

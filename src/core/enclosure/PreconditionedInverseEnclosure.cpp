@@ -1,4 +1,4 @@
-#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
+#include "pkm_accuracy/core/enclosure/PreconditionedInverseEnclosure.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -128,8 +128,8 @@ template <int kRows, typename A, typename B, typename F>
 void productEachRows(const A& a, const B& b, F& f) {
   const int rows = kRows > 0 ? kRows : static_cast<int>(a.rows());
   const int inner = static_cast<int>(a.cols()), cols = static_cast<int>(b.cols());
-  eigen_assert(rows <= AffineInverseAction::kEntries);
-  double acc[kRows > 0 ? kRows : AffineInverseAction::kEntries];
+  eigen_assert(rows <= PreconditionedInverseEnclosure::kEntries);
+  double acc[kRows > 0 ? kRows : PreconditionedInverseEnclosure::kEntries];
   for (int j = 0; j < cols; ++j) {
     for (int e = 0; e < rows; ++e) acc[e] = 0.0;
     for (int l = 0; l < inner; ++l) {
@@ -204,11 +204,12 @@ auto addTo(M& to) {
 
 }  // namespace
 
-bool AffineInverseAction::fixedPointBound(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z) {
+bool PreconditionedInverseEnclosure::fixedPointBound(const DMat& a, const DMat& approx, const DMat& rhs, DMat& z) {
   return fixedPoint(a, approx, rhs, z);
 }
 
-bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput& box, GeometryTerms geometry) {
+bool PreconditionedInverseEnclosure::prepare(const model::RobotModel& model, const BoxInput& box,
+                                             GeometryTerms geometry) {
   if (!prepareCentre(model, box, geometry == GeometryTerms::Expanded)) return false;
   preparePoseSlopes(model, box);
   boundPoseMagnitudes();
@@ -221,7 +222,8 @@ bool AffineInverseAction::prepare(const model::RobotModel& model, const BoxInput
   return q_.allFinite() && magE_.allFinite() && alpha_.allFinite() && magL.allFinite();
 }
 
-bool AffineInverseAction::prepareCentre(const model::RobotModel& model, const BoxInput& box, bool withGeometry) {
+bool PreconditionedInverseEnclosure::prepareCentre(const model::RobotModel& model, const BoxInput& box,
+                                                   bool withGeometry) {
   n_ = model.dof();
   vars_ = box.variables;
   params_ = withGeometry ? model.geometryParameterCount() : 0;
@@ -241,7 +243,7 @@ bool AffineInverseAction::prepareCentre(const model::RobotModel& model, const Bo
   return true;
 }
 
-void AffineInverseAction::preparePoseSlopes(const model::RobotModel& model, const BoxInput& box) {
+void PreconditionedInverseEnclosure::preparePoseSlopes(const model::RobotModel& model, const BoxInput& box) {
   // Centred form of the pose derivatives: D_i(t) = C dJ^-1/dt_i(t) = D_i(t0) + sum_l C H_il(xi) (t_l - t0_l), xi in the
   // box (entry by entry), so D_i over the box lies in D_i(t0) + sum_l [C H_il(box)] [-dev_l, dev_l]. C H keeps the
   // cancellations between legs (C ~ J) that the direct enclosure C [dJ^-1/dt_i(box)] loses, where every leg's
@@ -261,8 +263,8 @@ void AffineInverseAction::preparePoseSlopes(const model::RobotModel& model, cons
   if (residualOk_) prepareResidualWeights();
 }
 
-AffineInverseAction::HessianSource AffineInverseAction::boundHessian(const model::RobotModel& model,
-                                                                     const BoxInput& box) {
+PreconditionedInverseEnclosure::HessianSource PreconditionedInverseEnclosure::boundHessian(
+    const model::RobotModel& model, const BoxInput& box) {
   Workspace& w = work_;
   HessianSource source;
   residualOk_ = false;
@@ -292,8 +294,8 @@ AffineInverseAction::HessianSource AffineInverseAction::boundHessian(const model
   return source;
 }
 
-void AffineInverseAction::rangeSlopes(const model::RobotModel& model, const BoxInput& box,
-                                      const HessianSource& source) {
+void PreconditionedInverseEnclosure::rangeSlopes(const model::RobotModel& model, const BoxInput& box,
+                                                 const HessianSource& source) {
   Workspace& w = work_;
   if (vars_ > 0 && !source.centred()) model.inverseJacobianAtGeometryCentre(box.dualPose, w.poseD);
   const DMat zero = DMat::Zero(n_, n_);  // (C is exact: zero radius)
@@ -311,7 +313,7 @@ void AffineInverseAction::rangeSlopes(const model::RobotModel& model, const BoxI
   }
 }
 
-void AffineInverseAction::centredSlope(int i, const HessianSource& source, DMat& tm, DMat& tr) {
+void PreconditionedInverseEnclosure::centredSlope(int i, const HessianSource& source, DMat& tm, DMat& tr) {
   // With the box midpoint as the expansion's centre t0, the model's bound comes in three parts: at t0 + s dt,
   // |C H_il| <= magCH + s linCH + s^2 quadCH (linCH >= sum_m |C A_m|, the part that varies linearly in the pose
   // symbols; quadCH >= |C| R2, the affine forms' nonlinearity, which vanishes quadratically at t0; magCH the rest):
@@ -361,7 +363,8 @@ void AffineInverseAction::centredSlope(int i, const HessianSource& source, DMat&
   }
 }
 
-void AffineInverseAction::chooseTaylorSlopes(const std::array<DMat, kMaxDof>& tm, const std::array<DMat, kMaxDof>& tr) {
+void PreconditionedInverseEnclosure::chooseTaylorSlopes(const std::array<DMat, kMaxDof>& tm,
+                                                        const std::array<DMat, kMaxDof>& tr) {
   // Taylor slopes (second order, integral remainder): E(t, g0) = E0 + sum_i D_i(t0) dt_i + sum_{i,l} dt_i dt_l
   // int_0^1 (1 - s) C H_il(t0 + s dt) ds, and int_0^1 (1 - s) ds = 1/2, so entry by entry
   // E(t, g0) - E0 = sum_i T_i dt_i with T_i in D_i(t0) + (1/2) sum_l [C H_il(box)] [-dev_l, dev_l]: half the radius of
@@ -384,7 +387,7 @@ void AffineInverseAction::chooseTaylorSlopes(const std::array<DMat, kMaxDof>& tm
   }
 }
 
-void AffineInverseAction::prepareResidualWeights() {
+void PreconditionedInverseEnclosure::prepareResidualWeights() {
   // (tightenByResidual(): the remainder's part |C| R0 and the centre C Hc of the same affine Hessian forms.)
   const Workspace& w = work_;
   for (int p = 0; p < MatrixHessian::kPairs && residualOk_; ++p) {
@@ -398,7 +401,7 @@ void AffineInverseAction::prepareResidualWeights() {
   }
 }
 
-void AffineInverseAction::boundPoseMagnitudes() {
+void PreconditionedInverseEnclosure::boundPoseMagnitudes() {
   magS_ = e0m_.cwiseAbs() + e0r_;
   magSP_ = DMat::Zero(n_, n_);
   for (int i = 0; i < vars_; ++i) {
@@ -412,7 +415,7 @@ void AffineInverseAction::boundPoseMagnitudes() {
   boundPoseSquare();
 }
 
-void AffineInverseAction::boundPoseSquare() {
+void PreconditionedInverseEnclosure::boundPoseSquare() {
   // magS2_ >= |S(t) S(t)|. S(t) = E0 + sum_i T_i dt_i (T_i in [dm_i +- dr_i] entry by entry, |dt_i| <= dev_i) is
   // Sm(t) + X with Sm(t) = e0m + sum_i dm_i dt_i, |X| <= rS = e0r + sum_i dr_i dev_i and |Sm(t)| <= aS = |e0m|
   // + sum_i |dm_i| dev_i, so |S S| <= |Sm Sm| + aS rS + rS (aS + rS), and
@@ -440,7 +443,7 @@ void AffineInverseAction::boundPoseSquare() {
   magS2_ = upAll(m2).cwiseMin(upAll(DMat(mul<DMat>(magS_, magS_))));
 }
 
-void AffineInverseAction::storeGeometryEntries(const model::RobotModel& model) {
+void PreconditionedInverseEnclosure::storeGeometryEntries(const model::RobotModel& model) {
   for (int p = 0; p < params_; ++p) {
     h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
   }
@@ -481,7 +484,7 @@ void AffineInverseAction::storeGeometryEntries(const model::RobotModel& model) {
   }
 }
 
-DMat AffineInverseAction::boundGeometryMagnitudes() {
+DMat PreconditionedInverseEnclosure::boundGeometryMagnitudes() {
   absC_ = c_.cwiseAbs();
   // |L| <= sum_e |C_{., row(e)}| h_p |d_e|^T = |C| R with R(i, l) = sum over the entries e of row i of h_p |d_e|_l.
   magG_ = upAll(EntryMat(gm_.cwiseAbs() + gr_));
@@ -507,7 +510,7 @@ DMat AffineInverseAction::boundGeometryMagnitudes() {
   return magL;
 }
 
-void AffineInverseAction::boundDotProducts() {
+void PreconditionedInverseEnclosure::boundDotProducts() {
   // |d_e^T S| <= |d_e^T E0| + sum_i |d_e^T D_i| |dev_i| and |S C| <= |E0 C| + sum_i |D_i C| |dev_i|: the dot products
   // keep their cancellations, which |d_e|^T |S| and |S| |C| lose (both bounds are valid: the smaller is kept).
   // They bound |d_e . (S y)| <= dS z (so |L S y| <= cgh dS z) and |S L y| = |S C Lambda| <= |S C| B. With
@@ -538,7 +541,7 @@ void AffineInverseAction::boundDotProducts() {
   if (entries_ > 0) boundDotProductsWithC(w, sc, absGm);
 }
 
-void AffineInverseAction::boundDotProductsWithC(const DMat& w, const DMat& sc, const EntryMat& absGm) {
+void PreconditionedInverseEnclosure::boundDotProductsWithC(const DMat& w, const DMat& sc, const EntryMat& absGm) {
   // |d_e^T S C| as |d_e^T S| (boundDotProducts()): the midpoints' products gm (E0m C), gm (D_i C) keep their
   // cancellations; their roundings: kGamma |gm| sc.
   const DMat e0c = mul<DMat>(e0m_, c_);
@@ -553,7 +556,7 @@ void AffineInverseAction::boundDotProductsWithC(const DMat& w, const DMat& sc, c
   dSC_ = upAll(dsc).cwiseMin(upAll(plain));
 }
 
-void AffineInverseAction::prepareBilinear(const BoxInput& box) {
+void PreconditionedInverseEnclosure::prepareBilinear(const BoxInput& box) {
   // The bilinear terms (apply(), bilinearCoefficients()): the affine forms' pose symbols must be the box variables
   // (tau'_i = (t_i - mid_i) / a_i with a_i their scale, tau_i = (t_i - t0_i) / dev_i, t0 = mid: tau'_i = kappa_i
   // tau_i), and each parameter must have one entry (anchor coordinates: one row each).
@@ -577,7 +580,7 @@ void AffineInverseAction::prepareBilinear(const BoxInput& box) {
   e0c_ = upAll(DMat(mul<DMat>(magE0_, absC_)));
 }
 
-void AffineInverseAction::prepareAffineDeviations() {
+void PreconditionedInverseEnclosure::prepareAffineDeviations() {
   if (!affine_) return;
   // |d_e - c_e| <= sum_m |slope_m| + radius and |c_e|, component by component (apply()).
   devE_.resize(entries_, n_);
@@ -592,7 +595,7 @@ void AffineInverseAction::prepareAffineDeviations() {
   }
 }
 
-void AffineInverseAction::approximateInverses() {
+void PreconditionedInverseEnclosure::approximateInverses() {
   using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDof, kMaxDof>;
   // q_ ~ (I - |E|)^-1: any approximation; apply() verifies what it gives.
   DMat iMinus = -magE_;
@@ -625,11 +628,11 @@ void AffineInverseAction::approximateInverses() {
   jointOk_ = alphaRowsOk_ && joint_.allFinite() && jointInv_.allFinite();
 }
 
-bool AffineInverseAction::majorant(const DMat& rhs, DMat& z) const { return fixedPoint(magE_, q_, rhs, z); }
+bool PreconditionedInverseEnclosure::majorant(const DMat& rhs, DMat& z) const { return fixedPoint(magE_, q_, rhs, z); }
 
 /// The terms of apply() for one matrix V (m columns), in the order it bounds them (locals of one apply() call, on the
 /// stack: every matrix has a fixed maximum size).
-struct AffineInverseAction::ColumnTerms {
+struct PreconditionedInverseEnclosure::ColumnTerms {
   int m = 0;
   DMat vm, vr, absV;                     ///< V in midpoint-radius form, |V|
   DMat ym, yr;                           ///< Y0 = V - E0 V, midpoint and radius
@@ -660,7 +663,7 @@ struct AffineInverseAction::ColumnTerms {
   DMat poseRadius;                       ///< the pose coefficients' radii (the bilinear radius)
 };
 
-bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, Refinements refinements) const {
+bool PreconditionedInverseEnclosure::apply(const IMat& v, AffineMatrix& out, Refinements refinements) const {
   const bool forBounds = refinements == Refinements::ForErrorBounds;
   ColumnTerms s;
   if (!startColumns(v, s)) return false;
@@ -689,7 +692,7 @@ bool AffineInverseAction::apply(const IMat& v, AffineMatrix& out, Refinements re
   return out.radius.allFinite() && out.centre.allFinite();
 }
 
-bool AffineInverseAction::startColumns(const IMat& v, ColumnTerms& s) const {
+bool PreconditionedInverseEnclosure::startColumns(const IMat& v, ColumnTerms& s) const {
   s.m = static_cast<int>(v.cols());
   split(v, s.vm, s.vr);
   s.absV = upAll(DMat(s.vm.cwiseAbs() + s.vr));
@@ -705,7 +708,7 @@ bool AffineInverseAction::startColumns(const IMat& v, ColumnTerms& s) const {
   return majorant(s.absV, s.z);
 }
 
-void AffineInverseAction::geometryDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* sv) const {
+void PreconditionedInverseEnclosure::geometryDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* sv) const {
   // Geometry: DV = D_G V (first-order terms; also inside L L Y, as y = v + (y - v)).
   if (affine_) {
     // (The affine form is always the narrower one: measured, the same boxes without the interval product.)
@@ -720,7 +723,7 @@ void AffineInverseAction::geometryDots(ColumnTerms& s, std::array<EntryMat, kMax
   s.magDV = upAll(EntryMat(s.dvm.cwiseAbs() + s.dvr));
 }
 
-DMat AffineInverseAction::rowSums(const EntryMat& x, int m) const {
+DMat PreconditionedInverseEnclosure::rowSums(const EntryMat& x, int m) const {
   // Products cgh X (n x entries times entries x m, X >= 0) through the rows the entries move: cgh(k, e) =
   // |C_{k,row(e)}| h_p(e), so cgh X = |C| R(X) with R(X)(i, j) = sum over the entries e of row i of h_p(e) X(e, j)
   // (the same sums, a sixth of the products; every term is >= 0, so up() covers the roundings).
@@ -738,11 +741,11 @@ DMat AffineInverseAction::rowSums(const EntryMat& x, int m) const {
   return upAll(rowSum);
 }
 
-DMat AffineInverseAction::chProduct(const EntryMat& x, int m) const {
+DMat PreconditionedInverseEnclosure::chProduct(const EntryMat& x, int m) const {
   return upAll(DMat(mul<DMat>(absC_, rowSums(x, m))));
 }
 
-void AffineInverseAction::posePart(ColumnTerms& s) const {
+void PreconditionedInverseEnclosure::posePart(ColumnTerms& s) const {
   // |Y - Y0| = |-(E - E0) V + E^2 Y| <= |P V| + |L V| + |E| |E| Z  (delta), where E - E0 = P + L (P: the pose
   // part, L: the geometry part), |L V| <= cgh |DV| keeps the cancellations inside the dot products d_e . v, and
   // |P V| <= sum_i |D_i V| |dev_i| those inside D_i v (the products the pose coefficients need anyway), which |P| |V|
@@ -759,7 +762,7 @@ void AffineInverseAction::posePart(ColumnTerms& s) const {
   s.e0v = s.absSv;  // >= |E0 V| (the product in startColumns(), midpoint-radius)
 }
 
-void AffineInverseAction::centreDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* q1) const {
+void PreconditionedInverseEnclosure::centreDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* q1) const {
   // q(e, j) = sum_i dev_i |c_e . (D_i v_j)| (c_e: the centre of d_e's affine form), pvr >= sum_i dev_i (the radius of
   // D_i v and its rounding): |d_e . (P v)| <= q + devE |P v| + |c_e| pvr (boundPoseDotsByCentre()). For the columns
   // that bound f_k.
@@ -786,7 +789,7 @@ void AffineInverseAction::centreDots(ColumnTerms& s, std::array<EntryMat, kMaxDo
   s.pvr = upAll(s.pvr);
 }
 
-const AffineInverseAction::EntryMat& AffineInverseAction::poseDotRestOnce(ColumnTerms& s) const {
+const PreconditionedInverseEnclosure::EntryMat& PreconditionedInverseEnclosure::poseDotRestOnce(ColumnTerms& s) const {
   // >= devE |P v| + |c_e| pvr + |d_e| |E0 v| (the part of |d_e . (S y)|'s bound beyond q and d_e . S (y - v); only
   // with q), computed on first use.
   if (s.poseDotRest.rows() != entries_)
@@ -795,7 +798,7 @@ const AffineInverseAction::EntryMat& AffineInverseAction::poseDotRestOnce(Column
   return s.poseDotRest;
 }
 
-void AffineInverseAction::boundSpread(ColumnTerms& s) const {
+void PreconditionedInverseEnclosure::boundSpread(ColumnTerms& s) const {
   // beta(e, col) >= |d_e . y| <= |d_e . v| + rho(e, col), rho >= |d_e . (y - v)|, from spread >= |y - v|:
   // |y - v| <= |E0 V| + delta, and since y - v = -E y = -E v - E (y - v),
   //   |y - v| <= first + |E| |y - v|,   first = |E0 V| + |P V| + |L V| >= |E v|,
@@ -822,7 +825,7 @@ void AffineInverseAction::boundSpread(ColumnTerms& s) const {
   if (!joint && majorant(first, fp)) s.spread = s.spread.cwiseMin(fp);
 }
 
-bool AffineInverseAction::boundSpreadJointly(const DMat& first, ColumnTerms& s) const {
+bool PreconditionedInverseEnclosure::boundSpreadJointly(const DMat& first, ColumnTerms& s) const {
   // rho1 >= |d_e . (E0 v + P v + L v)|
   const int m = s.m;
   EntryMat dpv = nonNegativeProduct(magG_, DMat(upAll(DMat(s.e0v + s.pv))));
@@ -841,7 +844,7 @@ bool AffineInverseAction::boundSpreadJointly(const DMat& first, ColumnTerms& s) 
   return true;
 }
 
-void AffineInverseAction::boundPoseProduct(ColumnTerms& s) const {
+void PreconditionedInverseEnclosure::boundPoseProduct(ColumnTerms& s) const {
   // sy >= |S y| (S = E0 + P, the pose part of E) through y = v + (y - v): |S y| <= |S v| + |S| |y - v|, where
   // |S v| <= |E0 v| + |P v| keeps the cancellations inside S v and |y - v| <= spread is mostly well below z >= |y|.
   // The bounds through |S| z below are valid too: the smaller is kept. (Paper workspace, 2 threads: 5% fewer boxes
@@ -863,7 +866,7 @@ void AffineInverseAction::boundPoseProduct(ColumnTerms& s) const {
   }
 }
 
-void AffineInverseAction::boundPoseDotsByCentre(ColumnTerms& s) const {
+void PreconditionedInverseEnclosure::boundPoseDotsByCentre(ColumnTerms& s) const {
   // gsy >= |d_e . (S y)| is |d_e| |S y| (apply()); with the affine forms of d_e (centre c_e, |d_e - c_e| <= devE),
   // d_e . (S y) = d_e . (E0 v) + d_e . (P v) + d_e . (S (y - v)) and d_e . (P v) = (d_e - c_e) . (P v) + sum_i dev_i
   // tau_i c_e . (T_i v), T_i v in [D_i v -+ dvr_i], so
@@ -885,7 +888,7 @@ void AffineInverseAction::boundPoseDotsByCentre(ColumnTerms& s) const {
   s.gsy = s.gsy.cwiseMin(upAll(EntryMat(upAll(s.q) + s.dotRest)));
 }
 
-void AffineInverseAction::refineDots(ColumnTerms& s, AffineMatrix& out) const {
+void PreconditionedInverseEnclosure::refineDots(ColumnTerms& s, AffineMatrix& out) const {
   const int m = s.m;
   s.rho = nonNegativeProduct(magG_, s.spread);
   if (s.rhoJoint.rows() == entries_ && s.rhoJoint.cols() == m) s.rho = s.rho.cwiseMin(s.rhoJoint);
@@ -917,7 +920,7 @@ void AffineInverseAction::refineDots(ColumnTerms& s, AffineMatrix& out) const {
   s.b = rowSums(s.beta, m);
 }
 
-DMat AffineInverseAction::boundRemainder(ColumnTerms& s, AffineMatrix& out) const {
+DMat PreconditionedInverseEnclosure::boundRemainder(ColumnTerms& s, AffineMatrix& out) const {
   // Gamma = alpha B;  L L Y <= cgh Gamma.
   s.gamma = nonNegativeProduct(alpha_, s.b);
   // E^2 Y = S S Y + S L Y + L S Y + L L Y (S: pose part with E0, L: geometry part):
@@ -942,7 +945,7 @@ DMat AffineInverseAction::boundRemainder(ColumnTerms& s, AffineMatrix& out) cons
   return upAll(DMat(upAll(DMat(s.ssy + s.sly)) + upAll(DMat(s.lsy + ll))));
 }
 
-void AffineInverseAction::writePoseForms(ColumnTerms& s, const DMat& remainder, AffineMatrix& out) const {
+void PreconditionedInverseEnclosure::writePoseForms(ColumnTerms& s, const DMat& remainder, AffineMatrix& out) const {
   // Affine forms (N V = Y0 - sum_i D_i V dev_i - sum_p G_p V dev_p + E^2 N V). Pose terms -(D_i V)(k, j) (t_i - t0_i)
   // = -[pm +- pr] devMag tau_i: coefficient -pm devMag, the rest
   // (pr devMag and the rounding of the product) to the radius. Geometry terms (G_p V)(k, j) (g_p - g0_p) with
@@ -965,7 +968,7 @@ void AffineInverseAction::writePoseForms(ColumnTerms& s, const DMat& remainder, 
   }
 }
 
-void AffineInverseAction::writeBilinear(const ColumnTerms& s, AffineMatrix& out) const {
+void PreconditionedInverseEnclosure::writeBilinear(const ColumnTerms& s, AffineMatrix& out) const {
   // The bilinear form (bilinearCoefficients()): the products tau_i gamma_e of
   //   -L v     through d_e . v = c_e . v + sum_i (s_{e,i} . v) tau'_i + ...,   and of
   //   S L y + L S y = [P_m L_c v + L_c P_m v] + S L (y - v) + E0 L v + (P L v - P_m L_c v)
@@ -992,7 +995,7 @@ void AffineInverseAction::writeBilinear(const ColumnTerms& s, AffineMatrix& out)
   out.rowB = s.b;
 }
 
-void AffineInverseAction::sharePoseRemainder(const ColumnTerms& s, AffineMatrix& out) const {
+void PreconditionedInverseEnclosure::sharePoseRemainder(const ColumnTerms& s, AffineMatrix& out) const {
   // Bisection hints only (the radius is summed already): the remainder's terms through S (|S S y|, |S L y|, |L S y|)
   // shrink with the pose box too, so each pose variable's poseSpread also gets a share of them, in proportion to its
   // part of |P| (row sums of |D_i| |dev_i|). The shares add up to at most these terms, so poseSpread stays a part of
@@ -1010,7 +1013,7 @@ void AffineInverseAction::sharePoseRemainder(const ColumnTerms& s, AffineMatrix&
   }
 }
 
-void AffineInverseAction::writeGeometryForms(ColumnTerms& s, AffineMatrix& out) const {
+void PreconditionedInverseEnclosure::writeGeometryForms(ColumnTerms& s, AffineMatrix& out) const {
   // |C| h dvr, plus the rounding of the coefficient sums below (at most a few products and sums each, relative
   // error < kGamma of sum |terms|, i.e. kGamma cgh |dvm|).
   s.radius += chProduct(upAll(EntryMat(s.dvr + (2.0 * kGamma) * s.dvm.cwiseAbs())), s.m);
@@ -1026,8 +1029,8 @@ void AffineInverseAction::writeGeometryForms(ColumnTerms& s, AffineMatrix& out) 
   out.splitRadius = out.radius;
 }
 
-void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr, EntryMat* dr0,
-                                     std::array<EntryMat, kMaxDof>* sv) const {
+void PreconditionedInverseEnclosure::affineDots(const DMat& vm, const DMat& vr, EntryMat& dm, EntryMat& dr,
+                                                EntryMat* dr0, std::array<EntryMat, kMaxDof>* sv) const {
   // d_e . v = centre . vm + sum_m tau_m (slope_m . vm) + (the radii's part) . vm + d_e . (v - vm). The computed dot
   // products are off by at most kGamma times the dot products of the magnitudes, and |d_e . (v - vm)| <= |d_e| vr
   // with |d_e| <= |centre| + sum_m |slope_m| + radius componentwise, so with weight = |centre| + sum_m |slope_m| the
@@ -1077,7 +1080,8 @@ void AffineInverseAction::affineDots(const DMat& vm, const DMat& vr, EntryMat& d
   }
 }
 
-int AffineInverseAction::monotoneDirections(const AffineMatrix& a, int j, const double* jSign, double* dir) const {
+int PreconditionedInverseEnclosure::monotoneDirections(const AffineMatrix& a, int j, const double* jSign,
+                                                       double* dir) const {
   using interval::rounding::addUp;
   using interval::rounding::subDown;
   for (int p = 0; p < params_; ++p) dir[p] = 0.0;
@@ -1107,7 +1111,7 @@ int AffineInverseAction::monotoneDirections(const AffineMatrix& a, int j, const 
   return fixed;
 }
 
-double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, const double* s) const {
+double PreconditionedInverseEnclosure::upperOnFace(const AffineMatrix& a, int k, int j, const double* s) const {
   using interval::rounding::addUp;
   using interval::rounding::subDown;
   using interval::rounding::subUp;
@@ -1158,7 +1162,7 @@ double AffineInverseAction::upperOnFace(const AffineMatrix& a, int k, int j, con
   return addUp(addUp(addUp(a.centre(k, j), positive), signedSum), addUp(llm, llr));
 }
 
-void AffineInverseAction::faceLambdas(const double* s, FaceTerms& f) const {
+void PreconditionedInverseEnclosure::faceLambdas(const double* s, FaceTerms& f) const {
   // Lambda_i = sum over the entries e of row i of h_e gamma_e u_e (upperOnFace()), midpoint lm and radius lr.
   double scale[kMaxDof];
   for (int i = 0; i < n_; ++i) f.lm[i] = f.lr[i] = scale[i] = 0.0;
@@ -1178,7 +1182,7 @@ void AffineInverseAction::faceLambdas(const double* s, FaceTerms& f) const {
   for (int i = 0; i < n_; ++i) f.lr[i] = up(f.lr[i] + kGamma * scale[i]);
 }
 
-void AffineInverseAction::faceDots(FaceTerms& f) const {
+void PreconditionedInverseEnclosure::faceDots(FaceTerms& f) const {
   // T_e = sum_i (delta_e . C_{.,i}) Lambda_i (upperOnFace()), midpoint tm and radius tr.
   for (int e = 0; e < entries_; ++e) {
     double m = 0.0, r = 0.0, scale = 0.0;
@@ -1193,7 +1197,8 @@ void AffineInverseAction::faceDots(FaceTerms& f) const {
   }
 }
 
-void AffineInverseAction::faceLL(int k, const double* s, const FaceTerms& f, double& llm, double& llr) const {
+void PreconditionedInverseEnclosure::faceLL(int k, const double* s, const FaceTerms& f, double& llm,
+                                            double& llr) const {
   // (L L y)_k = sum_e C_{k,row(e)} h_e gamma_e T_e.
   double llScale = 0.0;
   for (int e = 0; e < entries_; ++e) {
@@ -1211,7 +1216,8 @@ void AffineInverseAction::faceLL(int k, const double* s, const FaceTerms& f, dou
   llr = up(llr + kGamma * llScale);
 }
 
-void AffineInverseAction::bilinearEntry(const AffineMatrix& a, int k, int j, int e, double* m, double& scale) const {
+void PreconditionedInverseEnclosure::bilinearEntry(const AffineMatrix& a, int k, int j, int e, double* m,
+                                                   double& scale) const {
   // Coefficient of tau_i gamma_p (p the parameter of entry e, r its row, h its half-width):
   //   dev_i h ((D_i C)(k, r) (c_e . v) + C(k, r) c_e . (D_i v))   (P_m L_c v + L_c P_m v)
   //   - C(k, r) h kappa_i (s_{e,i} . v)                           (-L v through d_e's slope in tau'_i = kappa_i tau_i)
@@ -1227,8 +1233,9 @@ void AffineInverseAction::bilinearEntry(const AffineMatrix& a, int k, int j, int
   }
 }
 
-void AffineInverseAction::bilinearCoefficients(const AffineMatrix& a, int k, int j,
-                                               double m[kMaxDof][kMaxGeometryParameters], double& rounding) const {
+void PreconditionedInverseEnclosure::bilinearCoefficients(const AffineMatrix& a, int k, int j,
+                                                          double m[kMaxDof][kMaxGeometryParameters],
+                                                          double& rounding) const {
   for (int i = 0; i < kMaxDof; ++i)
     for (int p = 0; p < params_; ++p) m[i][p] = 0.0;
   double scale = 0.0, mi[kMaxDof];
@@ -1239,7 +1246,7 @@ void AffineInverseAction::bilinearCoefficients(const AffineMatrix& a, int k, int
   rounding = up(2.0 * kGamma * up(scale));
 }
 
-double AffineInverseAction::upperBilinear(const AffineMatrix& a, int k, int j) const {
+double PreconditionedInverseEnclosure::upperBilinear(const AffineMatrix& a, int k, int j) const {
   using interval::rounding::addUp;
   using interval::rounding::subDown;
   // max over gamma_p of gamma_p u_p = |u_p|, u_p = b_p + sum_i m_ip tau_i + C(k, r_p) h_p (d_p . L y) in [b_p -+ w_p]:
@@ -1303,7 +1310,7 @@ double AffineInverseAction::upperBilinear(const AffineMatrix& a, int k, int j) c
   return addUp(addUp(a.centre(k, j), constant), rest);
 }
 
-Interval AffineInverseAction::AffineMatrix::entry(int k, int j) const {
+Interval PreconditionedInverseEnclosure::AffineMatrix::entry(int k, int j) const {
   double r = radius(k, j);
   for (int i = 0; i < vars; ++i) r += std::abs(pose[i](k, j));
   for (int p = 0; p < params; ++p) r += std::abs(geometry[j](k, p));
@@ -1311,7 +1318,7 @@ Interval AffineInverseAction::AffineMatrix::entry(int k, int j) const {
   return Interval(interval::rounding::subDown(centre(k, j), r), interval::rounding::addUp(centre(k, j), r));
 }
 
-void AffineInverseAction::combine(const AffineMatrix& a, int k, const double* w, Combination& out) {
+void PreconditionedInverseEnclosure::combine(const AffineMatrix& a, int k, const double* w, Combination& out) {
   out.vars = a.vars;
   out.params = a.params;
   double centre = 0.0, radius = 0.0, scale = 0.0;
@@ -1339,7 +1346,7 @@ void AffineInverseAction::combine(const AffineMatrix& a, int k, const double* w,
   out.radius = up(up(radius) + kGamma * up(scale));
 }
 
-void AffineInverseAction::Combination::add(const Combination& other) {
+void PreconditionedInverseEnclosure::Combination::add(const Combination& other) {
   // Each sum a + b has rounding error below 2^-53 |a + b| <= kGamma (|a| + |b|).
   double scale = std::abs(centre) + std::abs(other.centre);
   centre += other.centre;
@@ -1355,21 +1362,21 @@ void AffineInverseAction::Combination::add(const Combination& other) {
   radius = up(up(radius + other.radius) + kGamma * up(scale));
 }
 
-double AffineInverseAction::Combination::upper() const {
+double PreconditionedInverseEnclosure::Combination::upper() const {
   double r = radius;
   for (int i = 0; i < vars; ++i) r += std::abs(pose[i]);
   for (int p = 0; p < params; ++p) r += std::abs(geometry[p]);
   return interval::rounding::addUp(centre, up(r));
 }
 
-double AffineInverseAction::Combination::lower() const {
+double PreconditionedInverseEnclosure::Combination::lower() const {
   double r = radius;
   for (int i = 0; i < vars; ++i) r += std::abs(pose[i]);
   for (int p = 0; p < params; ++p) r += std::abs(geometry[p]);
   return interval::rounding::subDown(centre, up(r));
 }
 
-void AffineInverseAction::tightenByResidual(const IMat& v, AffineMatrix& a) const {
+void PreconditionedInverseEnclosure::tightenByResidual(const IMat& v, AffineMatrix& a) const {
   if (!residualOk_ || a.params != 0 || a.vars != vars_ || a.rows != n_ || v.rows() != n_ || v.cols() != a.cols) return;
   if (!inverseMagnitudeReady()) return;
   ResidualCentre centre;
@@ -1384,7 +1391,7 @@ void AffineInverseAction::tightenByResidual(const IMat& v, AffineMatrix& a) cons
   }
 }
 
-bool AffineInverseAction::inverseMagnitudeReady() const {
+bool PreconditionedInverseEnclosure::inverseMagnitudeReady() const {
   if (magNOk_) return true;
   if (magNFailed_) return false;
   // |N| over the box from N's own forms: N = N I.
@@ -1407,8 +1414,9 @@ bool AffineInverseAction::inverseMagnitudeReady() const {
   return true;
 }
 
-AffineInverseAction::V6 AffineInverseAction::residualBound(const ResidualCentre& centre, const IMat& v,
-                                                           const AffineMatrix& a, int j) const {
+PreconditionedInverseEnclosure::V6 PreconditionedInverseEnclosure::residualBound(const ResidualCentre& centre,
+                                                                                 const IMat& v, const AffineMatrix& a,
+                                                                                 int j) const {
   ResidualColumn x;
   for (int l = 0; l < n_; ++l) {
     split(v(l, j), x.vm[l], x.vr[l]);
@@ -1447,7 +1455,8 @@ AffineInverseAction::V6 AffineInverseAction::residualBound(const ResidualCentre&
   return upAll(V6(upAll(sums.bound) + upAll(sums.rest) + 4.0 * kGamma * upAll(sums.scale)));
 }
 
-void AffineInverseAction::addQuadraticResidual(const double* dev, const ResidualColumn& x, ResidualSums& sums) const {
+void PreconditionedInverseEnclosure::addQuadraticResidual(const double* dev, const ResidualColumn& x,
+                                                          ResidualSums& sums) const {
   // The residual's quadratic and cubic terms and the third-order rest (residualBound()), pair by pair.
   for (int i = 0; i < n_; ++i) {
     for (int m = i; m < n_; ++m) {
