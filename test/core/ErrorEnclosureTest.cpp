@@ -16,8 +16,8 @@
 #include "MpfrGough.hpp"
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
-#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
+#include "pkm_accuracy/core/enclosure/PreconditionedInverseEnclosure.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 
 using namespace pkm_accuracy;
@@ -157,10 +157,10 @@ TEST(ErrorEnclosure, EveryMethodBoundsEveryPointOfRandomBoxes) {
   EXPECT_GT(checkedMpfr, 100);
 }
 
-// With an exact geometry, second_order bounds boxes of 3 or more variables with the affine form of AffineInverseAction
-// (no geometry terms) instead of the interval-Gauss form it uses when the caller asks for the internals. The signs of
-// J it certifies (which a search hands down to sub-boxes) hold at every sampled pose, and both forms bound the
-// sampled errors.
+// With an exact geometry, second_order bounds boxes of 3 or more variables with the affine form of
+// PreconditionedInverseEnclosure (no geometry terms) instead of the interval-Gauss form it uses when the caller asks
+// for the internals. The signs of J it certifies (which a search hands down to sub-boxes) hold at every sampled pose,
+// and both forms bound the sampled errors.
 TEST(ErrorEnclosure, SecondOrderOnExactGeometryUsesTheAffineFormAndItsSignsHold) {
   const io::RobotFile rf = test::ref6File();
   const model::GoughPlatform robot(rf.geometry);
@@ -213,8 +213,8 @@ TEST(ErrorEnclosure, SecondOrderOnExactGeometryUsesTheAffineFormAndItsSignsHold)
 
 TEST(ErrorEnclosure, SecondOrderIsTightOnEighthBoxesThroughTheCentredPoseDerivatives) {
   // Boxes of 1/8 of every range at workspace corners (where the errors are largest): the pose slopes through the
-  // model's Hessian (AffineInverseAction::prepare, second-order Taylor slopes) keep the bound within 13% of the
-  // sampled maximum over the box; with the centred derivative ranges alone it is 5-26% above it, with the direct
+  // model's Hessian (PreconditionedInverseEnclosure::prepare, second-order Taylor slopes) keep the bound within 13% of
+  // the sampled maximum over the box; with the centred derivative ranges alone it is 5-26% above it, with the direct
   // derivative enclosures alone 22-104%.
   const io::RobotFile rf = test::ref6File();
   const model::GoughPlatform robot(rf.geometry);
@@ -251,8 +251,8 @@ TEST(ErrorEnclosure, SecondOrderIsTightOnEighthBoxesThroughTheCentredPoseDerivat
 }
 
 TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
-  // AffineInverseAction's pose slopes T_i, entry by entry either the range of C dJ^-1/dt_i over the box or the
-  // second-order Taylor slope D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (half the centred range's radius):
+  // PreconditionedInverseEnclosure's pose slopes T_i, entry by entry either the range of C dJ^-1/dt_i over the box or
+  // the second-order Taylor slope D_i(t0) + (1/2) sum_l C H_il(box) [-dev_l, dev_l] (half the centred range's radius):
   // C (J^-1(t) - J^-1(t0)) - sum_i mid(T_i) (t_i - t0_i) must stay within sum_i rad(T_i) |t_i - t0_i| at every vertex
   // (where the second-order term is largest) and at random points, with J^-1 in MPFR. The bound must also be reached
   // closely somewhere (largest ratio > 0.6), so that a Hessian term too small by a factor 0.6 fails here.
@@ -268,8 +268,9 @@ TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
     const IVec box = cornerOrInnerBox(whole, trial, rng);
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
-    enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    enclosure::PreconditionedInverseEnclosure act;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+        << "trial " << trial;
     const DMat& c = act.preconditioner();
     DVec t0(6);
     for (int i = 0; i < 6; ++i) t0[i] = in.centrePose[i].mid();
@@ -301,10 +302,10 @@ TEST(ErrorEnclosure, PoseSlopesHoldAtEveryVertexInMpfr) {
 }
 
 TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
-  // AffineInverseAction's |S S| bound (S(t) = C J^-1(t) - I, the pose part of E): |S(t) S(t)| <= poseSquareMagnitude()
-  // entry by entry at every vertex and at random points of boxes of 1/4 ... 1/32 of every range, with S(t) S(t) in
-  // MPFR. The bound must be reached closely somewhere (0.96 of it is; a bound too small by a factor 0.8 fails), and
-  // it must be below |S| |S| on the whole (the products' cancellations are what it is for).
+  // PreconditionedInverseEnclosure's |S S| bound (S(t) = C J^-1(t) - I, the pose part of E): |S(t) S(t)| <=
+  // poseSquareMagnitude() entry by entry at every vertex and at random points of boxes of 1/4 ... 1/32 of every range,
+  // with S(t) S(t) in MPFR. The bound must be reached closely somewhere (0.96 of it is; a bound too small by a factor
+  // 0.8 fails), and it must be below |S| |S| on the whole (the products' cancellations are what it is for).
   const io::RobotFile rf = test::ref6File();
   const model::GoughPlatform robot(rf.geometry);
   const domain::Workspace& ws = rf.workspaces.at("paper");
@@ -316,8 +317,9 @@ TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
     const IVec box = cornerOrInnerBox(whole, trial, rng);
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
-    enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    enclosure::PreconditionedInverseEnclosure act;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+        << "trial " << trial;
     const DMat& c = act.preconditioner();
     const DMat& m2 = act.poseSquareMagnitude();
     const DMat& magS = act.poseMagnitude();
@@ -351,8 +353,8 @@ TEST(ErrorEnclosure, PoseSquareMagnitudeBoundsSSquaredInMpfr) {
 }
 
 TEST(ErrorEnclosure, AffineHessianFormsBoundTheThirdOrderTaylorRestInMpfr) {
-  // What AffineInverseAction::tightenByResidual takes from the model: with C H_il(t0 + s dt) within s L_il + R_il +
-  // s^2 Q_il of its centre C Hc_il (GoughPlatform::preconditionedHessianMagnitude's linear part, remainder and
+  // What PreconditionedInverseEnclosure::tightenByResidual takes from the model: with C H_il(t0 + s dt) within s L_il +
+  // R_il + s^2 Q_il of its centre C Hc_il (GoughPlatform::preconditionedHessianMagnitude's linear part, remainder and
   // quadratic part, and its centre output), the Taylor rest
   //   C (J^-1(t) - J^-1(t0)) - sum_i C D_i(t0) dt_i - (1/2) sum_il C Hc_il dt_i dt_l
   // is bounded entry by entry by sum_i |C| rad(D_i(t0)) |dt_i| + sum_il (L_il / 6 + R_il / 2 + Q_il / 12) |dt_i dt_l|
@@ -369,8 +371,9 @@ TEST(ErrorEnclosure, AffineHessianFormsBoundTheThirdOrderTaylorRestInMpfr) {
     const IVec box = cornerOrInnerBox(whole, trial, rng);
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
-    enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    enclosure::PreconditionedInverseEnclosure act;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+        << "trial " << trial;
     const DMat c = act.preconditioner();
     std::array<DMat, MatrixHessian::kPairs> mag, lin, quad, rest, centre;
     ASSERT_TRUE(robot.preconditionedHessianMagnitude(box, c, mag, &lin, &quad, &rest, &centre)) << "trial " << trial;
@@ -419,12 +422,11 @@ TEST(ErrorEnclosure, AffineHessianFormsBoundTheThirdOrderTaylorRestInMpfr) {
 }
 
 TEST(ErrorEnclosure, ResidualRadiusContainsNVInMpfrAndTightensTheForms) {
-  // AffineInverseAction::tightenByResidual: for the forms of N V (V = C, whose columns are J = N C's, and random
-  // interval columns), every tightened radius still bounds |N(t) v - x-hat(tau)| at every vertex and at random points
-  // of boxes of 1/4 ... 1/32 of every range and of half of it (N v in MPFR, v a vertex or a random point
-  // of V's intervals); the centres and coefficients are kept and no radius grows; and on the whole the radii shrink
-  // (the point of it), with the bound reached closely somewhere (a bound that ignored a term of the residual would
-  // show it there).
+  // PreconditionedInverseEnclosure::tightenByResidual: for the forms of N V (V = C, whose columns are J = N C's, and
+  // random interval columns), every tightened radius still bounds |N(t) v - x-hat(tau)| at every vertex and at random
+  // points of boxes of 1/4 ... 1/32 of every range and of half of it (N v in MPFR, v a vertex or a random point of V's
+  // intervals); the centres and coefficients are kept and no radius grows; and on the whole the radii shrink (the point
+  // of it), with the bound reached closely somewhere (a bound that ignored a term of the residual would show it there).
   const io::RobotFile rf = test::ref6File();
   const model::GoughPlatform robot(rf.geometry);
   const domain::Workspace& ws = rf.workspaces.at("paper");
@@ -440,8 +442,9 @@ TEST(ErrorEnclosure, ResidualRadiusContainsNVInMpfrAndTightensTheForms) {
                           whole[i].upper() - 0.25 * (whole[i].upper() - whole[i].lower()));
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
-    enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    enclosure::PreconditionedInverseEnclosure act;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+        << "trial " << trial;
     const DMat& c = act.preconditioner();
     for (int which = 0; which < 2; ++which) {
       // V = C (the columns of J = N C), then 3 random columns, one of them with a radius.
@@ -454,7 +457,7 @@ TEST(ErrorEnclosure, ResidualRadiusContainsNVInMpfrAndTightensTheForms) {
                        r = which == 1 && j == 2 ? 1e-3 * std::abs(unit(rng)) : 0.0;
           v(i, j) = Interval(x - r, x + r);
         }
-      enclosure::AffineInverseAction::AffineMatrix a, b;
+      enclosure::PreconditionedInverseEnclosure::AffineMatrix a, b;
       ASSERT_TRUE(act.apply(v, a)) << "trial " << trial;
       b = a;
       act.tightenByResidual(v, b);
@@ -524,8 +527,9 @@ TEST(ErrorEnclosure, SeparableSsyPartOfTheRadiusHoldsAfterTheResidualTightening)
     const IVec box = cornerOrInnerBox(whole, trial, rng);
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
-    enclosure::AffineInverseAction act;
-    ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
+    enclosure::PreconditionedInverseEnclosure act;
+    ASSERT_TRUE(act.prepare(robot, in, enclosure::PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+        << "trial " << trial;
     const DMat& c = act.preconditioner();
     for (int which = 0; which < 2; ++which) {
       const int m = which == 0 ? 6 : 3;
@@ -533,8 +537,11 @@ TEST(ErrorEnclosure, SeparableSsyPartOfTheRadiusHoldsAfterTheResidualTightening)
       std::uniform_real_distribution<double> unit(-1.0, 1.0);
       for (int i = 0; i < 6; ++i)
         for (int j = 0; j < m; ++j) v(i, j) = Interval(which == 0 ? c(i, j) : unit(rng));
-      enclosure::AffineInverseAction::AffineMatrix a;
-      ASSERT_TRUE(act.apply(v, a, which == 1)) << "trial " << trial;
+      enclosure::PreconditionedInverseEnclosure::AffineMatrix a;
+      ASSERT_TRUE(act.apply(v, a,
+                            which == 1 ? enclosure::PreconditionedInverseEnclosure::Refinements::ForErrorBounds
+                                       : enclosure::PreconditionedInverseEnclosure::Refinements::Standard))
+          << "trial " << trial;
       act.tightenByResidual(v, a);
       for (int k = 0; k < 6; ++k)
         for (int j = 0; j < m; ++j) {

@@ -380,9 +380,9 @@ TEST(GoughPlatform, PreconditionedHessianMagnitudeBoundsEveryPointAndBeatsTheInt
 
 TEST(GoughPlatform, PreconditionedHessianPartsScaleAlongSegmentsFromTheCentre) {
   // With `linear`, |C H_il(t0 + s dt)| <= out + s linear for every t0 + dt in the box (t0 its midpoint, s in [0, 1]):
-  // what lets the mean-value and Taylor forms of AffineInverseAction weight the linear part by 1/2 and 1/3. Checked
-  // against the analytic Hessian at points; on small boxes (where the affine remainder in `out` is second order and
-  // the linear part first order) the bound is reached to within a few percent at the 64 vertices scaled by s, so a
+  // what lets the mean-value and Taylor forms of PreconditionedInverseEnclosure weight the linear part by 1/2 and 1/3.
+  // Checked against the analytic Hessian at points; on small boxes (where the affine remainder in `out` is second order
+  // and the linear part first order) the bound is reached to within a few percent at the 64 vertices scaled by s, so a
   // linear part too small by a fifth, or one that did not scale with s, fails here. Without `linear`, `out` is the
   // sum of both parts. With `quadratic` too, |C H_il(t0 + s dt)| <= out + s linear + s^2 quadratic, checked the same
   // way (GoughPlatform then evaluates in interval::SegmentAffineForm).

@@ -10,7 +10,9 @@
 //   UncertaintyModel*      geometry-parameter API of GoughPlatform (count, names, ranges, centres, restrictGeometry,
 //                          geometryDerivatives against finite differences);
 //   UncertaintyEnclosure*  soundness of the second_order enclosure and of errorAtPose over pose boxes x geometries;
-//   UncertaintyAffine*     AffineInverseAction: the affine forms (and combine()) contain N V computed in MPFR;
+//   UncertaintyPreconditionedInverse*
+//                          PreconditionedInverseEnclosure: the affine forms (and combine()) contain N V computed in
+//                          MPFR;
 //   UncertaintyVerifier*   the verifier on the reference robot (max-error brackets, SAFE / UNSAFE /
 //                          uncertainty-sensitive verdicts checked independently), strategy (b), nominal invariance;
 //   UncertaintyRegression*: reproducers of problems once found in the core (fixed; kept as regression tests).
@@ -31,9 +33,9 @@
 #include "TestRobots.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
-#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/enclosure/GeometryIncrement.hpp"
+#include "pkm_accuracy/core/enclosure/PreconditionedInverseEnclosure.hpp"
 #include "pkm_accuracy/core/interval/AffineForm.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
@@ -195,8 +197,8 @@ void centresAndHalfWidths(const model::RobotModel& robot, std::vector<double>& g
 
 /// The forms of J0 = N C over the box from a nominal expansion (prepared without geometry terms): as apply() gives
 /// them, or as the default pipeline uses them, tightened by their residual radius (MeanValueEnclosure).
-bool nominalJ0(const enclosure::AffineInverseAction& act, bool tightened,
-               enclosure::AffineInverseAction::AffineMatrix& jac) {
+bool nominalJ0(const enclosure::PreconditionedInverseEnclosure& act, bool tightened,
+               enclosure::PreconditionedInverseEnclosure::AffineMatrix& jac) {
   const DMat& c = act.preconditioner();
   IMat all(c.rows(), c.cols());
   for (int j = 0; j < c.cols(); ++j)
@@ -848,9 +850,10 @@ TEST(UncertaintyEnclosure, GeometryIncrementEntryBoundsHoldAndReachTheWorstVerte
       const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
       enclosure::BoxInput in;
       ws.poseView(box, true, in);
-      enclosure::AffineInverseAction act;
-      ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
-      enclosure::AffineInverseAction::AffineMatrix jac;
+      enclosure::PreconditionedInverseEnclosure act;
+      ASSERT_TRUE(act.prepare(robot, in, enclosure::PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+          << "trial " << trial;
+      enclosure::PreconditionedInverseEnclosure::AffineMatrix jac;
       ASSERT_TRUE(nominalJ0(act, false, jac));
       enclosure::GeometryIncrement increment;
       if (increment.prepare(robot, in, act, jac) != enclosure::GeometryIncrement::Preparation::Ready) continue;
@@ -916,9 +919,10 @@ TEST(UncertaintyEnclosure, PipelineBoundsHoldAgainstDenseSamplesAtWideGeometryRa
       const IVec box = randomSubBox(ws.initialBox(), trial % 2 ? 1.0 / 8.0 : 1.0 / 16.0, rng);
       enclosure::BoxInput in;
       ws.poseView(box, true, in);
-      enclosure::AffineInverseAction act;
-      ASSERT_TRUE(act.prepare(robot, in, false)) << "trial " << trial;
-      enclosure::AffineInverseAction::AffineMatrix jac;
+      enclosure::PreconditionedInverseEnclosure act;
+      ASSERT_TRUE(act.prepare(robot, in, enclosure::PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+          << "trial " << trial;
+      enclosure::PreconditionedInverseEnclosure::AffineMatrix jac;
       ASSERT_TRUE(nominalJ0(act, true, jac));
       for (int j = 0; j < 6; ++j)
         tightenedColumns += (jac.radius.col(j).array() < jac.splitRadius.col(j).array()).any();
@@ -1110,10 +1114,10 @@ TEST(UncertaintyEnclosure, ErrorAtPoseEnclosesEveryGeometryAndItsSensitivitiesPo
 }
 
 // =====================================================================================================================
-// 3. AffineInverseAction directly
+// 3. PreconditionedInverseEnclosure directly
 // =====================================================================================================================
 
-TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
+TEST(UncertaintyPreconditionedInverse, AffineFormsContainNVComputedInMpfr) {
   const io::RobotFile rf = test::ref6File();
   const domain::Workspace& ws = rf.workspaces.at("paper");
   model::GoughGeometry withTool = withUncertainty(0.0005);
@@ -1135,7 +1139,7 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
       const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
       enclosure::BoxInput in;
       ws.poseView(box, true, in);
-      enclosure::AffineInverseAction act;
+      enclosure::PreconditionedInverseEnclosure act;
       if (!act.prepare(robot, in)) continue;
       ++prepared;
       EXPECT_EQ(act.parameters(), params);
@@ -1148,7 +1152,7 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
           const double c = unit(rng), r = (rng() % 3 == 0) ? 0.0 : 1e-4 * std::abs(unit(rng));
           v(i, j) = Interval(c - r, c + r);
         }
-      enclosure::AffineInverseAction::AffineMatrix a;
+      enclosure::PreconditionedInverseEnclosure::AffineMatrix a;
       ASSERT_TRUE(act.apply(v, a)) << "trial " << trial;
       ASSERT_EQ(a.rows, 6);
       ASSERT_EQ(a.cols, m);
@@ -1254,8 +1258,8 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
         for (int k = 0; k < 6; ++k) {
           double w[kMaxDof];
           for (int j = 0; j < m; ++j) w[j] = rng() % 4 == 0 ? 0.0 : std::ldexp(unit(rng), -3);
-          enclosure::AffineInverseAction::Combination comb;
-          enclosure::AffineInverseAction::combine(a, k, w, comb);
+          enclosure::PreconditionedInverseEnclosure::Combination comb;
+          enclosure::PreconditionedInverseEnclosure::combine(a, k, w, comb);
           Mp exact(0.0);
           for (int j = 0; j < m; ++j) exact = exact + Mp(w[j]) * nv[k][j];
           EXPECT_TRUE(mpGreaterEqual(exact, comb.lower()) && mpLessEqual(exact, comb.upper()))
@@ -1266,8 +1270,8 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
           // add(): the sum of two combinations of the same row encloses the sum.
           double w2[kMaxDof];
           for (int j = 0; j < m; ++j) w2[j] = std::ldexp(unit(rng), -2);
-          enclosure::AffineInverseAction::Combination other;
-          enclosure::AffineInverseAction::combine(a, k, w2, other);
+          enclosure::PreconditionedInverseEnclosure::Combination other;
+          enclosure::PreconditionedInverseEnclosure::combine(a, k, w2, other);
           Mp exact2(0.0);
           for (int j = 0; j < m; ++j) exact2 = exact2 + Mp(w2[j]) * nv[k][j];
           comb.add(other);
@@ -1295,7 +1299,7 @@ TEST(UncertaintyAffineInverseAction, AffineFormsContainNVComputedInMpfr) {
   std::cout << "[ info     ] |S L y + L S y| up to " << worstCross << " of its bound\n";
 }
 
-TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
+TEST(UncertaintyPreconditionedInverse, RhoBoundsTheDotProductsOfYMinusV) {
   // AffineMatrix::rho(e, j) >= |d_e . (y_j - v_j)| for every pose and geometry of the box, y = N v: the bound that
   // |y - v| and the dot products d_e . (y - v) share through their joint fixed point (apply()) and that the
   // refinements of B, the monotone directions and the face bounds build on; also sigma >= |d_e . (S y)| and, for the
@@ -1320,7 +1324,7 @@ TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
       const IVec box = randomSubBox(ws.initialBox(), fraction, rng);
       enclosure::BoxInput in;
       ws.poseView(box, true, in);
-      enclosure::AffineInverseAction act;
+      enclosure::PreconditionedInverseEnclosure act;
       if (!act.prepare(robot, in)) continue;
       GeometryDerivatives geo;
       ASSERT_TRUE(robot.geometryDerivatives(in.pose, geo));
@@ -1333,8 +1337,10 @@ TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
         v(i, 2) = Interval(c(i, trial % 6));
       }
       for (const bool forBounds : {false, true}) {
-        enclosure::AffineInverseAction::AffineMatrix a;
-        ASSERT_TRUE(act.apply(v, a, forBounds));
+        enclosure::PreconditionedInverseEnclosure::AffineMatrix a;
+        ASSERT_TRUE(act.apply(v, a,
+                              forBounds ? enclosure::PreconditionedInverseEnclosure::Refinements::ForErrorBounds
+                                        : enclosure::PreconditionedInverseEnclosure::Refinements::Standard));
         ASSERT_EQ(a.rho.rows(), geo.count);
         for (int s = 0; s < 4; ++s) {
           const DVec t = s % 2 ? randomVertexOf(box, rng) : test::randomPoint(box, rng);
@@ -1419,9 +1425,9 @@ TEST(UncertaintyAffineInverseAction, RhoBoundsTheDotProductsOfYMinusV) {
   EXPECT_GT(worstRest, 0.15);
 }
 
-TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
-  // The bilinear form of apply(v, a, true) (bilinearCoefficients(), upperBilinear()) at vertices and interior points
-  // of pose boxes and of the geometry box, against N V and L L y computed in MPFR:
+TEST(UncertaintyPreconditionedInverse, BilinearFormAndItsBoundHoldInMpfr) {
+  // The bilinear form of apply(v, a, Refinements::ForErrorBounds) (bilinearCoefficients(), upperBilinear()) at vertices
+  // and interior points of pose boxes and of the geometry box, against N V and L L y computed in MPFR:
   //   |NV - (centre + pose . tau + sum_p (geometry_p + sum_i m_ip tau_i) gamma_p) - (L L y)_k| <= bilinearRadius
   //   + rounding, and NV <= upperBilinear(). Boxes at random places and at the paper workspace's corner (where the
   // maxima are), columns random and of the kind the enclosure uses (C w, w a sign pattern times the sensor bounds).
@@ -1449,7 +1455,7 @@ TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
       }
       enclosure::BoxInput in;
       ws.poseView(box, true, in);
-      enclosure::AffineInverseAction act;
+      enclosure::PreconditionedInverseEnclosure act;
       ASSERT_TRUE(act.prepare(robot, in)) << trial;
       const DMat& c = act.preconditioner();
       const int m = 4;
@@ -1467,10 +1473,10 @@ TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
           }
         }
       }
-      enclosure::AffineInverseAction::AffineMatrix a;
-      ASSERT_TRUE(act.apply(v, a, true)) << trial;
+      enclosure::PreconditionedInverseEnclosure::AffineMatrix a;
+      ASSERT_TRUE(act.apply(v, a, enclosure::PreconditionedInverseEnclosure::Refinements::ForErrorBounds)) << trial;
       ASSERT_TRUE(a.bilinear) << "workspace boxes with anchor uncertainty have the bilinear form";
-      enclosure::AffineInverseAction::AffineMatrix plain;
+      enclosure::PreconditionedInverseEnclosure::AffineMatrix plain;
       ASSERT_TRUE(act.apply(v, plain)) << trial;
       EXPECT_FALSE(plain.bilinear);
       for (int s = 0; s < 7; ++s) {
@@ -1571,7 +1577,7 @@ TEST(UncertaintyAffineInverseAction, BilinearFormAndItsBoundHoldInMpfr) {
   EXPECT_LT(tighter, 0.95 * old);
 }
 
-TEST(UncertaintyAffineInverseAction, BilinearCoefficientsAreTheMixedDerivatives) {
+TEST(UncertaintyPreconditionedInverse, BilinearCoefficientsAreTheMixedDerivatives) {
   // The coefficient of tau_i gamma_p in the bilinear form is dev_i h_p d^2 (N v)_k / dt_i dg_p at the box centre up
   // to terms of the box's size (midpoints of slopes over the box): checked against central differences of N v in
   // MPFR (200 bits, steps 1e-6) on 1/256 boxes at +-1 mm. Each of its three parts (P L v, L P v, the slopes of the
@@ -1589,7 +1595,7 @@ TEST(UncertaintyAffineInverseAction, BilinearCoefficientsAreTheMixedDerivatives)
     const IVec box = randomSubBox(ws.initialBox(), 1.0 / 256.0, rng);
     enclosure::BoxInput in;
     ws.poseView(box, true, in);
-    enclosure::AffineInverseAction act;
+    enclosure::PreconditionedInverseEnclosure act;
     ASSERT_TRUE(act.prepare(robot, in));
     const DMat& c = act.preconditioner();
     IMat v(6, 1);
@@ -1600,8 +1606,8 @@ TEST(UncertaintyAffineInverseAction, BilinearCoefficientsAreTheMixedDerivatives)
       v(i, 0) = Interval(x);
       vp[i][0] = Mp(x);
     }
-    enclosure::AffineInverseAction::AffineMatrix a;
-    ASSERT_TRUE(act.apply(v, a, true));
+    enclosure::PreconditionedInverseEnclosure::AffineMatrix a;
+    ASSERT_TRUE(act.apply(v, a, enclosure::PreconditionedInverseEnclosure::Refinements::ForErrorBounds));
     ASSERT_TRUE(a.bilinear);
     DVec t0(6);
     for (int i = 0; i < 6; ++i) t0[i] = in.centrePose[i].mid();
@@ -2027,7 +2033,7 @@ TEST(UncertaintyVerifier, ReportedGeometriesAreAdmissibleExactlyAndAttainTheirBo
 TEST(UncertaintyEnclosure, MonotoneFaceBoundHoldsAndTightensNearTheWorstCorner) {
   // Where f_k is certified monotone in some geometry parameters over the box, the bound is also taken on the face
   // of the geometry box with those parameters at their raising ends, where |L L y| keeps its signs
-  // (AffineInverseAction::upperOnFace). BoxInput::targets at +inf skips that refinement (every bound is then
+  // (PreconditionedInverseEnclosure::upperOnFace). BoxInput::targets at +inf skips that refinement (every bound is then
   // "good enough"): the face bound must be no larger, strictly smaller somewhere near the worst corner at 1 mm, and
   // still above the true maxima (worst vertices by vertex search, in double and MPFR).
   const io::RobotFile rf = test::ref6File();
@@ -2076,12 +2082,12 @@ TEST(UncertaintyEnclosure, MonotoneFaceBoundHoldsAndTightensNearTheWorstCorner) 
 }
 
 TEST(UncertaintyEnclosure, AffineGeometryDotsKeepTheCornerBoundsTight) {
-  // The affine geometry derivatives (AffineInverseAction's dot products d_e . v from the model's affine forms) are
-  // part of what keeps the +-1 mm bounds tight on mid-sized boxes. On the 1/16 and 1/8 boxes at the paper
+  // The affine geometry derivatives (PreconditionedInverseEnclosure's dot products d_e . v from the model's affine
+  // forms) are part of what keeps the +-1 mm bounds tight on mid-sized boxes. On the 1/16 and 1/8 boxes at the paper
   // workspace's upper corner, the bounds' excesses over the maxima sampled over poses and geometries add up to
   // 0.352 and 1.629 over the six components (bounds 1.036-1.084 and 1.143-1.416 x the maxima); with the dot products
-  // as interval products of d_e's enclosure instead (AffineInverseAction without the affine forms), 0.400 and 1.765
-  // (measured). The limits lie in between; every bound must also be above its sampled maximum.
+  // as interval products of d_e's enclosure instead (PreconditionedInverseEnclosure without the affine forms), 0.400
+  // and 1.765 (measured). The limits lie in between; every bound must also be above its sampled maximum.
   const io::RobotFile rf = test::ref6File();
   const domain::Workspace& ws = rf.workspaces.at("paper");
   const auto method = enclosure::makeEnclosure("second_order");
@@ -2417,8 +2423,8 @@ struct ReproducerBox {
 }  // namespace
 
 TEST(UncertaintyRegression, FallbackToIntervalCoefficientsLeavesNoZeroGeometryHints) {
-  // A box of the centred 1/16 paper sub-box at h = 1 mm where AffineInverseAction::apply() accepts J = N C but
-  // rejects 2 of the 64 sign columns (its Neumann verification), so encloseWithGeometry() returns false after
+  // A box of the centred 1/16 paper sub-box at h = 1 mm where PreconditionedInverseEnclosure::apply() accepts J = N C
+  // but rejects 2 of the 64 sign columns (its Neumann verification), so encloseWithGeometry() returns false after
   // having set geometrySmear / geometrySensitivity to zero matrices of full size; the interval-coefficient path then
   // leaves them so. ErrorBounds documents them as empty outside the second-order geometry form; a zero 6 x 36 matrix
   // makes Verifier::chooseGeometrySplit() see valid-looking all-zero scores (no geometry split ever chosen for such
@@ -2458,14 +2464,14 @@ TEST(UncertaintyRegression, SmearBisectionProvesSafeWhereItOnceStalled) {
 }
 
 TEST(UncertaintyRegression, ApplySuccessDoesNotDependOnTheRightHandSide) {
-  // AffineInverseAction::apply() verifies the Neumann majorant |y| <= z with z ~ (I - |E|)^-1 w, w >= |v|, slack
-  // z *= 1 + 1e-9. For an entry l with w_l << z_l (here v = C (1e-5, ..., 1e-5): |v_3| = 8e-11 while
-  // z_3 = 3e-7) that slack (~1e-9 w_l) is below the 1e-12 relative inflation of up(), so next_l > z_l by 2e-12
-  // relative; the repair raises only the failing entries by 1%, which breaks the other entries through |E|, and 4
-  // attempts ping-pong without success. Here rho(|E|) = 0.22: the majorant exists for every v, apply(C) succeeds,
-  // but apply(C 1e-5 1) fails (and so does MeanValueEnclosure's geometry form for this box, see above).
+  // PreconditionedInverseEnclosure::apply() verifies the Neumann majorant |y| <= z with z ~ (I - |E|)^-1 w, w >= |v|,
+  // slack z *= 1 + 1e-9. For an entry l with w_l << z_l (here v = C (1e-5, ..., 1e-5): |v_3| = 8e-11 while z_3 = 3e-7)
+  // that slack (~1e-9 w_l) is below the 1e-12 relative inflation of up(), so next_l > z_l by 2e-12 relative; the repair
+  // raises only the failing entries by 1%, which breaks the other entries through |E|, and 4 attempts ping-pong without
+  // success. Here rho(|E|) = 0.22: the majorant exists for every v, apply(C) succeeds, but apply(C 1e-5 1) fails (and
+  // so does MeanValueEnclosure's geometry form for this box, see above).
   const ReproducerBox r;
-  enclosure::AffineInverseAction act;
+  enclosure::PreconditionedInverseEnclosure act;
   ASSERT_TRUE(act.prepare(r.robot, r.in));
   const DMat& c = act.preconditioner();
   IMat cols(6, 6), v(6, 1);
@@ -2477,7 +2483,7 @@ TEST(UncertaintyRegression, ApplySuccessDoesNotDependOnTheRightHandSide) {
     }
     v(l, 0) = sum;
   }
-  enclosure::AffineInverseAction::AffineMatrix a;
+  enclosure::PreconditionedInverseEnclosure::AffineMatrix a;
   ASSERT_TRUE(act.apply(cols, a));
   EXPECT_TRUE(act.apply(v, a));
 }

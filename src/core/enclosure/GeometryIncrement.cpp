@@ -27,8 +27,8 @@ inline double mag(const GeometryIncrement::Form& f) { return f.toInterval().mag(
 }  // namespace
 
 GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotModel& model, const BoxInput& box,
-                                                          const AffineInverseAction& act,
-                                                          const AffineInverseAction::AffineMatrix& j0) {
+                                                          const PreconditionedInverseEnclosure& act,
+                                                          const PreconditionedInverseEnclosure::AffineMatrix& j0) {
   n_ = model.dof();
   params_ = model.geometryParameterCount();
   if (n_ != kMaxDof || !box.variablesArePose(n_) || params_ <= 0 || params_ > kMaxGeometryParameters)
@@ -191,7 +191,7 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
   aApprox_ = (DMat::Identity(n_, n_) - aMat_).inverse();
   if (!aApprox_.allFinite()) aApprox_ = DMat::Identity(n_, n_);
   DMat ybar;
-  if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return Preparation::Unverified;
+  if (!PreconditionedInverseEnclosure::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return Preparation::Unverified;
   // Column j of Y: |Y_ij| <= A_ij + |sum_i' (delta r_i . J0_{.,i'}) Y_i'j| <= A_ij + phi_i(|Y_.j|) (the signs of the
   // Y_i'j chosen jointly with leg i's geometry).
   for (int j = 0; j < n_; ++j) {
@@ -293,8 +293,8 @@ void GeometryIncrement::rowBound(int k, Row& out) const {
   for (int p = 0; p < params_; ++p) out.coefficient[p] = 0.0;
 }
 
-GeometryIncrement::SeparablePart GeometryIncrement::SeparablePart::ofColumn(const AffineInverseAction::AffineMatrix& a,
-                                                                            int j) {
+GeometryIncrement::SeparablePart GeometryIncrement::SeparablePart::ofColumn(
+    const PreconditionedInverseEnclosure::AffineMatrix& a, int j) {
   SeparablePart part;
   for (int l = 0; l < a.rows; ++l) {
     part.ssy[l] = a.ssy(l, j);
@@ -370,7 +370,8 @@ void GeometryIncrement::parameterDots(const Form* w, double* out) const {
   for (int e = 0; e < entries_; ++e) out[e] = up(0.5 * up(out[e]) + up(mag[e]));
 }
 
-GeometryIncrement::Form GeometryIncrement::entryForm(const AffineInverseAction::AffineMatrix& a, int k, int j) {
+GeometryIncrement::Form GeometryIncrement::entryForm(const PreconditionedInverseEnclosure::AffineMatrix& a, int k,
+                                                     int j) {
   double coefficients[kMaxDof];
   for (int i = 0; i < kMaxDof; ++i) coefficients[i] = i < a.vars ? a.pose[i](k, j) : 0.0;
   return Form::fromParts(a.centre(k, j), coefficients, a.radius(k, j));
@@ -421,7 +422,7 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
   // B_i >= |delta r_i . y|, y = J u = w - J0 Delta M y: |Delta M y| <= B0 + A |Delta M y|.
   for (int i = 0; i < n_; ++i) rowB0(i, 0) = up(rowB0(i, 0));
   DMat rowB;
-  if (!AffineInverseAction::fixedPointBound(aMat_, aApprox_, rowB0, rowB)) return false;
+  if (!PreconditionedInverseEnclosure::fixedPointBound(aMat_, aApprox_, rowB0, rowB)) return false;
   // First order: max over gamma of sum_q gamma_q h_q b_q = sum_q h_q |b_q| <= sum_q (weight_q b_q + offset_q).
   // The parameters whose b_q has a certain sign have exact secants (weight +-h_q, offset 0): the others (ranges
   // across 0) are also kept as they are (Row::straddling), for the exact maximum at the vertices. The sums of

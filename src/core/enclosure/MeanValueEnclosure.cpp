@@ -6,9 +6,9 @@
 #include <limits>
 #include <memory>
 
-#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
 #include "pkm_accuracy/core/enclosure/GeometryIncrement.hpp"
 #include "pkm_accuracy/core/enclosure/IntervalLinearAlgebra.hpp"
+#include "pkm_accuracy/core/enclosure/PreconditionedInverseEnclosure.hpp"
 #include "pkm_accuracy/core/interval/Rounding.hpp"
 
 namespace pkm_accuracy {
@@ -20,10 +20,10 @@ constexpr int kFaceIterations = 4;
 
 using interval::rounding::up;  // a non-negative quantity computed in double (a few sums): up() bounds the exact one
 
-/// Second-order bound of f_k from the affine forms of N V (AffineInverseAction). With uncertain geometry parameters
-/// the geometry enters as first-order terms too; with an exact geometry the expansion is in the box variables only
-/// (the same identities as the interval-Gauss form in encloseImpl(), the remainder bounded through a verified
-/// Neumann majorant of |N v| column by column; the search keeps far fewer boxes with it, docs/enclosures.md).
+/// Second-order bound of f_k from the affine forms of N V (PreconditionedInverseEnclosure). With uncertain geometry
+/// parameters the geometry enters as first-order terms too; with an exact geometry the expansion is in the box
+/// variables only (the same identities as the interval-Gauss form in encloseImpl(), the remainder bounded through a
+/// verified Neumann majorant of |N v| column by column; the search keeps far fewer boxes with it, docs/enclosures.md).
 /// J = N C is enclosed first (for the signs); then, with s_j the sign of J_kj where it is known,
 ///   f_k = sum_j |J_kj| e_j = max over the signs s_q of the undetermined entries of (N C w_s)_k,
 ///   w_s,j = s_j e_j,
@@ -43,7 +43,8 @@ using interval::rounding::up;  // a non-negative quantity computed in double (a 
 /// magnitudes) of the terms counted in `scale`, so after at most 63 updates its rounding error is below
 /// 63 * 2^-52 of those terms (any rounding mode); with the per-vertex sum of at most 1 + kMaxGeometryParameters
 /// weighted terms the whole error stays below 1e-13 scale.
-double upperAtVertices(const AffineInverseAction::Combination& nominal, const GeometryIncrement::Row& r, int vars) {
+double upperAtVertices(const PreconditionedInverseEnclosure::Combination& nominal, const GeometryIncrement::Row& r,
+                       int vars) {
   double scale = std::abs(nominal.centre) + std::abs(r.fixed.centre());
   double slope[kMaxDof];
   for (int i = 0; i < vars; ++i) {
@@ -87,9 +88,9 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   // Measured on the paper workspace at +-0.5 mm (bench/RESULTS.md): 2 and 1e-2 beat 1 / 3 and 2e-3 by 1.3-1.7x.
   constexpr int kMaxOpen = 2;
   constexpr double kNegligible = 1e-2;
-  static thread_local AffineInverseAction act;
-  static thread_local AffineInverseAction::AffineMatrix jac, nv;
-  static thread_local AffineInverseAction::Combination comb;
+  static thread_local PreconditionedInverseEnclosure act;
+  static thread_local PreconditionedInverseEnclosure::AffineMatrix jac, nv;
+  static thread_local PreconditionedInverseEnclosure::Combination comb;
   static thread_local GeometryIncrement increment;
   const int n = model.dof();
   const int vars = box.variables;
@@ -100,7 +101,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   // / 2 327 such boxes, the same boxes and bounds without the combined form's attempt.)
   bool decomposed = model.hasGeometryUncertainty() && box.decomposeGeometry && vars == n;
   if (decomposed) {
-    decomposed = act.prepare(model, box, false);
+    decomposed = act.prepare(model, box, PreconditionedInverseEnclosure::GeometryTerms::AtCentre);
     if (decomposed) {
       const DMat& c0 = act.preconditioner();
       IMat all(n, n);
@@ -113,7 +114,11 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
       decomposed = built == GeometryIncrement::Preparation::Ready;
     }
   }
-  if (!decomposed && !act.prepare(model, box, model.hasGeometryUncertainty())) return false;
+  if (!decomposed &&
+      !act.prepare(model, box,
+                   model.hasGeometryUncertainty() ? PreconditionedInverseEnclosure::GeometryTerms::Expanded
+                                                  : PreconditionedInverseEnclosure::GeometryTerms::AtCentre))
+    return false;
   const int params = act.parameters();
   const int modelParams = decomposed ? model.geometryParameterCount() : params;
   const DMat& c = act.preconditioner();
@@ -234,7 +239,7 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
   out.geometrySensitivity = GMat::Zero(n, modelParams);
   double upper[kMaxDof], lower[kMaxDof];
   bool missed[kMaxDof];  // a column of the row has missed its target (BoxInput::targets) already
-  static thread_local AffineInverseAction::Combination best[kMaxDof];
+  static thread_local PreconditionedInverseEnclosure::Combination best[kMaxDof];
   static thread_local double bestCoefficient[kMaxDof][kMaxGeometryParameters];  // (decomposed: geometry hints)
   double atCentre[kMaxDof];  // the largest column's value estimate at the box centre (not certified)
   // Decomposed: some columns' increase bounded coarsely (coarse), and the row's bound without those increases.
@@ -295,17 +300,17 @@ bool encloseAffine(const model::RobotModel& model, const BoxInput& box, unsigned
     }
     IMat batch(n, batchSize);
     for (int q = 0; q < batchSize; ++q) batch.col(q) = columns[batchFirst + q].v;
-    if (!act.apply(batch, nv, true)) return false;
+    if (!act.apply(batch, nv, PreconditionedInverseEnclosure::Refinements::ForErrorBounds)) return false;
     act.tightenByResidual(batch, nv);
     for (int segment = 0; segment < segments; ++segment) {
       const int k = segmentRow[segment], offset = segmentFirst[segment], m = segmentSize[segment];
       for (int q = offset; q < offset + m; ++q) {
         for (int j = 0; j < batchSize; ++j) unit[j] = j == q ? 1.0 : 0.0;
-        AffineInverseAction::combine(nv, k, unit, comb);
+        PreconditionedInverseEnclosure::combine(nv, k, unit, comb);
         double first = 0.0;
         const double centreAtG0 = comb.centre;
         GeometryIncrement::Row r;
-        AffineInverseAction::Combination nominal;  // (decomposed: the column at g0)
+        PreconditionedInverseEnclosure::Combination nominal;  // (decomposed: the column at g0)
         // (Decomposed: the box is split whatever this column's increase, which is then bounded coarsely.)
         bool doomed = false, easy = false;
         if (decomposed) {

@@ -62,7 +62,7 @@ struct BoxInput {
   bool useFaces = false;
   /// With uncertain geometry on workspace boxes: bound the nominal error and its increase over the geometry
   /// separately (GeometryIncrement, the "decomposed" form) instead of expanding around the pose and the geometry at
-  /// once (the "combined" form of AffineInverseAction with the geometry). Both are rigorous.
+  /// once (the "combined" form of PreconditionedInverseEnclosure with the geometry). Both are rigorous.
   bool decomposeGeometry = false;
   /// The components the caller needs (bit k: component k). Methods may skip the others: their upper bounds are then
   /// +inf or looser than they could be (still valid), their lower bounds 0, their hints 0.

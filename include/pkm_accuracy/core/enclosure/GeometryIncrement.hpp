@@ -5,15 +5,15 @@
 // J_kj keeps a sign s_j over the pose box Q and every geometry, e_j |J_kj| = e_j |J0_kj| + s_j e_j Delta J_kj, and
 // elsewhere e_j |J_kj| <= e_j |J0_kj| + e_j |Delta J_kj|. So for every (t, g) of Q x G
 //   f_k(t, g) <= f_k(t, g0) + e_k^T Delta J u + sum_{j unstable} e_j |Delta J_kj|,   u_j = s_j e_j (stable j, else 0),
-// and the first term is bounded by the nominal form (AffineInverseAction without geometry). With M = J^-1 and
-// Delta M = M(t, g) - M(t, g0), whose row i depends on leg i's parameters only (delta r_i, the anchor coordinates of
-// leg i), J = J0 - J0 Delta M J gives exactly
+// and the first term is bounded by the nominal form (PreconditionedInverseEnclosure without geometry). With M = J^-1
+// and Delta M = M(t, g) - M(t, g0), whose row i depends on leg i's parameters only (delta r_i, the anchor coordinates
+// of leg i), J = J0 - J0 Delta M J gives exactly
 //   e_k^T Delta J u = - sum_i J0_ki (delta r_i . w) + sum_{i,i'} J0_ki (delta r_i . J0_{.,i'}) (delta r_i' . y),
 //   w = J0 u, y = J u,  delta r_i = sum_{p of row i} (g_p - g0_p) dbar_p,  dbar_p = int_0^1 d_p(t, g0 + s (g - g0)) ds,
 // d_p the derivative of row i of J^-1 with respect to parameter p, enclosed over Q and every geometry by the model's
 // affine forms in the pose (GeometryRowDerivative::affine), so dbar_p too. The first sum is sum_p gamma_p h_p b_p(t),
 // b_p = -J0_{k,i(p)} (dbar_p . w), an affine form in the pose symbols tau of the box (the products of the J0 entries'
-// affine forms, from the nominal AffineInverseAction, with those of dbar_p): its maximum over gamma is
+// affine forms, from the nominal PreconditionedInverseEnclosure, with those of dbar_p): its maximum over gamma is
 // sum_p h_p |b_p|, bounded by the secant of |x| over b_p's range, a linear form in tau plus a constant. The linear
 // part joins the nominal bound's own linear part (the same tau), so the pose slopes of the nominal error and of its
 // geometry increase cancel where they do. The second sum is bounded by sum_i |J0_ki| phi_i(B), phi_i(B) >=
@@ -31,8 +31,9 @@
 // rowBound() is the coarse bound for rows that are split anyway, and Row::fixed / straddle let the caller take the
 // exact maximum of the first-order part over the pose vertices; phi() couples the signs in the second-order terms.
 //
-// Why: the combined form (AffineInverseAction with the geometry) expands N = (C J^-1(t, g))^-1 around the pose AND
-// the geometry at once, so its remainder carries the products of pose and geometry deviations through the inverse
+// Why: the combined form (PreconditionedInverseEnclosure with the geometry) expands N = (C J^-1(t, g))^-1 around the
+// pose AND the geometry at once, so its remainder carries the products of pose and geometry deviations through the
+// inverse
 // (|L S y|, |S L y|, |L L y|, ...), each bounded in magnitude; here the nominal part keeps the nominal remainder and
 // the geometry part is exact to first order in the geometry with a remainder of second order in h. With the
 // increment known exactly to first order (an unsound point estimate, docs/design-notes.md) the search would need
@@ -45,7 +46,7 @@
 // relative error below 1.5e-14).
 #pragma once
 
-#include "pkm_accuracy/core/enclosure/AffineInverseAction.hpp"
+#include "pkm_accuracy/core/enclosure/PreconditionedInverseEnclosure.hpp"
 #include "pkm_accuracy/core/interval/AffineForm.hpp"
 
 namespace pkm_accuracy {
@@ -57,7 +58,8 @@ class GeometryIncrement {
 
   /// The bound of e_k^T (J(t, g) - J(t, g0)) u over the box and every geometry, for one component k and weights u:
   ///   e_k^T Delta J u <= linear(tau) + constant,  |e_k^T Delta J u| <= magnitude,
-  /// tau the pose symbols of the nominal AffineInverseAction's forms (tau_i = (t_i - t0_i) / |t_i - t0_i|max).
+  /// tau the pose symbols of the nominal PreconditionedInverseEnclosure's forms (tau_i = (t_i - t0_i) / |t_i -
+  /// t0_i|max).
   struct Row {
     Form linear;
     double constant = 0.0;   ///< secant offsets and the second-order sum (>= 0, rounded up)
@@ -85,19 +87,19 @@ class GeometryIncrement {
   };
 
   /// Builds the parts shared by the rows for a box: j0 are the affine forms of J0 = N C over the box (all n columns
-  /// of C, from AffineInverseAction::apply after prepare(model, box, false)). Where it is not Ready the caller uses
-  /// another form.
-  Preparation prepare(const model::RobotModel& model, const BoxInput& box, const AffineInverseAction& act,
-                      const AffineInverseAction::AffineMatrix& j0);
+  /// of C, from PreconditionedInverseEnclosure::apply after prepare(model, box, false)). Where it is not Ready the
+  /// caller uses another form.
+  Preparation prepare(const model::RobotModel& model, const BoxInput& box, const PreconditionedInverseEnclosure& act,
+                      const PreconditionedInverseEnclosure::AffineMatrix& j0);
 
   /// The part S S y of a column x = N v of the nominal expansion that columnDots() bounds apart, from its
-  /// AffineInverseAction::AffineMatrix (per row l): ssy >= |S S y|, sy >= |S y|, and splitRadius, a bound of
+  /// PreconditionedInverseEnclosure::AffineMatrix (per row l): ssy >= |S S y|, sy >= |S y|, and splitRadius, a bound of
   /// |x - x-hat| of which ssy is a separable part (|x - x-hat - S S y| <= splitRadius - ssy). The column's form may
   /// carry a smaller radius without such a part (the residual radius).
   struct SeparablePart {
     double ssy[kMaxDof], sy[kMaxDof], splitRadius[kMaxDof];
     /// Column j of `a`.
-    static SeparablePart ofColumn(const AffineInverseAction::AffineMatrix& a, int j);
+    static SeparablePart ofColumn(const PreconditionedInverseEnclosure::AffineMatrix& a, int j);
   };
 
   /// The increase of sum_j u_j J_kj(t, g) over its value at g0, e_k^T Delta J u, bounded over the box and every
@@ -114,9 +116,9 @@ class GeometryIncrement {
   /// the centres wc of w = J0 u.
   double centreIncrease(int k, const double* wc) const;
 
-  /// Entry (k, j) of an AffineInverseAction::AffineMatrix without its geometry terms, as a Form in the same pose
-  /// symbols (exact: the same centre, coefficients and radius; only for matrices built without geometry terms).
-  static Form entryForm(const AffineInverseAction::AffineMatrix& a, int k, int j);
+  /// Entry (k, j) of an PreconditionedInverseEnclosure::AffineMatrix without its geometry terms, as a Form in the same
+  /// pose symbols (exact: the same centre, coefficients and radius; only for matrices built without geometry terms).
+  static Form entryForm(const PreconditionedInverseEnclosure::AffineMatrix& a, int k, int j);
 
   /// DJ_kj >= |J_kj(t, g) - J_kj(t, g0)| over the box and every geometry (valid after prepare()).
   double entryIncrease(int k, int j) const { return dj_[k][j]; }

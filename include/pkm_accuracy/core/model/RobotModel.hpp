@@ -104,7 +104,7 @@ class RobotModel {
   /// quadratic[p] (weights 1/3 and 1/6 in the mean-value and Taylor forms). With `centre` and `rest`: centre[p] = C Hc
   /// computed in floating point and rest[p] >= |C| R (R0 with `quadratic`) plus the rounding of every product with C,
   /// so that |C H_il(t0 + s dt) - centre[p]| <= rest[p] + s linear[p] + s^2 quadratic[p] (the expansion's third-order
-  /// rest, AffineInverseAction::tightenByResidual). @return false if the model does not provide them.
+  /// rest, PreconditionedInverseEnclosure::tightenByResidual). @return false if the model does not provide them.
   virtual bool preconditionedHessianMagnitude(const IVec& /*pose*/, const DMat& /*c*/,
                                               std::array<DMat, MatrixHessian::kPairs>& /*out*/,
                                               std::array<DMat, MatrixHessian::kPairs>* /*linear*/ = nullptr,

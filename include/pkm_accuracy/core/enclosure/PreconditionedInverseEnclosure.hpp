@@ -1,38 +1,14 @@
-// Enclosure of N(t, g) v over a box of poses t AND the box of uncertain geometry parameters g, where
-// N = (C J^-1(t, g))^-1 and C is an approximate inverse of J^-1 at the box centre with the geometry at its centre.
+// Affine forms of N V over a box of poses t AND the box of uncertain geometry parameters g, where
+// N = (C J^-1(t, g))^-1 and C is an approximate inverse of J^-1 at the box centre with the geometry at its centre
+// (so N C = J): each entry of N V is enclosed as a centre plus one exact first-order term per pose variable and per
+// geometry parameter, plus a radius, in noise symbols shared by all the entries, so that linear combinations of the
+// entries keep their cancellations across legs. The radius bounds the second-order remainder E^2 N V
+// (E = C J^-1 - I) through a verified Neumann majorant of |N V|; nothing here is heuristic: every bound is rigorous,
+// roundings included (midpoint-radius double arithmetic with a priori error bounds, valid in any rounding mode).
 //
-// With E = C J^-1 - I = E0 + sum_i D_i (t_i - t0_i) + sum_p G_p (g_p - g0_p) (D_i: pose slopes at the centre geometry,
-// entry by entry the range of the derivative over the pose box or its second-order Taylor slope at the box centre,
-// half as wide; G_p: mean-value form over the pose box and every geometry), N = I - E + E^2 N:
-//   (N v)_k in (v - E0 v)_k - sum_i (D_i v)_k dev_i - sum_p (G_p v)_k dev_p  +/-  second-order remainder,
-// where every first-order term is exact per variable (the cancellations across legs are kept, unlike interval
-// coefficients, which widen every entry of E independently). The remainder splits E = S + L, S the pose part
-// (including E0) and L the geometry part, and bounds E^2 N v = S S y + S L y + L S y + L L y (y = N v) with
-//   |S S y| <= |S| |S y|,  z >= |y| from (I - |E|) z >= |v| (verified, so rho(|E|) < 1),
-//   |S y| <= min(|S| z, |S v| + |S| |y - v|)  (|S v| through the products D_i v, which keep their cancellations),
-//   |L S y| <= sum_p |C_{.,i(p)}| h_p min(|d_p^T S| z, |d_p| |S y|),
-//     |d_p^T S| <= |d_p^T E0| + sum_i |d_p^T D_i| |t_i - t0_i|,
-//   |S L y| <= |S C| B  (L y keeps its cancellations: B_j = sum over row j's parameters of |d_p . y| h_p),
-// and L L y through the structure of L: each parameter moves one row i of J^-1 (G_p = C e_i d_p^T, d_p the
-// derivative of that row), so (L L y)_k = sum_{p,q} C_ki(p) (d_p . C_{.,i(q)}) (d_q . y) dev_p dev_q keeps the
-// cancellations inside the dot products; |d_q . y| <= |d_q . v| + |d_q . (y - v)|, the last bounded through
-// y - v = -(E0 + P) y - L y (P the pose part) with the dot products d_q . C_{.,i} again (the magnitude bound
-// |d_q| |y - v| alone loses about a factor of two at 1 mm); that also tightens z. On a face of the geometry box
-// (upperOnFace) d_q . y is refined once more through the same identity, with the fixed parameters' signs kept. Nothing
-// here is heuristic: every bound is rigorous (rounding included, midpoint-radius double arithmetic with a priori error
-// bounds).
-//
-// The dot products d_p . v (and d_p . C_{.,j}) come from the model's affine forms of d_p in the pose where it gives
-// them (GeometryRowDerivative::affine: the Gough platform's anchor coordinates), which keep the correlations between
-// the components of d_p over the pose box; the interval product of d_p's enclosure with v adds up their ranges.
-//
-// For the columns that bound the error (apply(v, a, true)), the products tau_i gamma_p of the pose and geometry
-// deviations are also kept as one coefficient each (their three sources nearly cancel), and upperBilinear() bounds a
-// column through the sign of each parameter's term over the box (docs/uncertainty.md, "Bilinear pose x geometry
-// terms").
-//
-// This is what makes bounded anchor uncertainty cheap: the geometry enters as first-order terms that are exact to
-// O(h^2), instead of as interval coefficients whose overestimation never shrinks with the pose box.
+// Derivations: docs/uncertainty.md ("First-order (affine) treatment of the geometry", "Bilinear pose x geometry
+// terms", "Monotonicity in the geometry") and docs/enclosures.md (pose slopes through the Hessian, |S S|, the residual
+// radius, and the key of the symbols used here: "Symbols of the affine forms in the code").
 #pragma once
 
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
@@ -40,7 +16,7 @@
 namespace pkm_accuracy {
 namespace enclosure {
 
-class AffineInverseAction {
+class PreconditionedInverseEnclosure {
  public:
   /// Capacity of the geometry entries (GeometryDerivatives::kCapacity).
   static constexpr int kEntries = GeometryDerivatives::kCapacity;
@@ -77,10 +53,10 @@ class AffineInverseAction {
     /// sy(k, j) >= |(S y_j)_k| (S = E0 + P the pose part of E; GeometryIncrement bounds d . (S S y) through it).
     DMat sy;
     /// The pose x geometry terms kept as products tau_i gamma_p (bilinearCoefficients(), upperBilinear()); only from
-    /// apply(v, a, true), for boxes whose variables are the pose coordinates and models with affine geometry
-    /// derivatives (else false and empty): q1[i](e, j) = c_e . (D_i v_j) and sv[i](e, j) = s_{e,i} . v_j (midpoints:
-    /// c_e the centre of d_e's affine form, s_{e,i} its slope in pose coordinate i, D_i the pose slopes), and
-    /// bilinearRadius(k, j) bounds
+    /// apply(v, a, Refinements::ForErrorBounds), for boxes whose variables are the pose coordinates and models with
+    /// affine geometry derivatives (else false and empty): q1[i](e, j) = c_e . (D_i v_j) and sv[i](e, j) = s_{e,i} .
+    /// v_j (midpoints: c_e the centre of d_e's affine form, s_{e,i} its slope in pose coordinate i, D_i the pose
+    /// slopes), and bilinearRadius(k, j) bounds
     /// |(N V)_kj - the bilinear form - (L L y)_kj| (the first-order parts' radii and every remainder term but the
     /// bilinear ones and |L L y|, which upperBilinear() bounds with the geometry terms).
     bool bilinear = false;
@@ -111,11 +87,17 @@ class AffineInverseAction {
   /// sum_j w[j] (N V)_kj for row k of an AffineMatrix (w: one exact weight per column).
   static void combine(const AffineMatrix& a, int k, const double* w, Combination& out);
 
-  /// Builds the expansion for a box (box.dualPose must be filled). With withGeometry false, the expansion is in the
-  /// box variables only, of J^-1 at the centre of the geometry parameters (no geometry terms: the model's geometry
-  /// must then be exact for the forms to hold; also for models without parameters).
+  /// What prepare() expands J^-1 in.
+  enum class GeometryTerms {
+    Expanded,  ///< the box variables and the geometry parameters (models with geometry parameters only)
+    /// the box variables only, J^-1 at the centre of the geometry parameters (no geometry terms: the model's geometry
+    /// must then be exact for the forms to hold, or the caller bounds the geometry's part apart; also for models
+    /// without parameters)
+    AtCentre,
+  };
+  /// Builds the expansion for a box (box.dualPose must be filled).
   /// @return false if it cannot be built: singular centre, no geometry derivatives, or sizes out of range.
-  bool prepare(const model::RobotModel& model, const BoxInput& box, bool withGeometry = true);
+  bool prepare(const model::RobotModel& model, const BoxInput& box, GeometryTerms geometry = GeometryTerms::Expanded);
 
   /// The preconditioner C (valid after prepare()).
   const DMat& preconditioner() const { return c_; }
@@ -134,12 +116,16 @@ class AffineInverseAction {
   /// the midpoints' products, which keep their cancellations, and the radii's part in magnitude; never above |S| |S|.
   const DMat& poseSquareMagnitude() const { return magS2_; }
 
+  /// Which refinements apply() makes.
+  enum class Refinements {
+    Standard,  ///< those that pay for any columns (J = N C, its signs, N itself)
+    /// the columns bound f_k, so the refinements that pay only there are made too: the dot-product bound of
+    /// |d_e . (S y)| and, where the box allows it, the bilinear terms (AffineMatrix::bilinear, for upperBilinear())
+    ForErrorBounds,
+  };
   /// Affine forms of N V (V: n rows, at most kMaxDof columns) valid for every (t, g) of the box.
   /// @return false if |N v| could not be bounded for some column (the Neumann majorant does not converge).
-  /// forBounds: the columns bound f_k (not only the signs of J), so the refinements that pay only there are made too:
-  /// the dot-product bound of |d_e . (S y)| and, where the box allows it, the bilinear terms (AffineMatrix::bilinear,
-  /// for upperBilinear()).
-  bool apply(const IMat& v, AffineMatrix& out, bool forBounds = false) const;
+  bool apply(const IMat& v, AffineMatrix& out, Refinements refinements = Refinements::Standard) const;
 
   /// Monotonicity in the geometry (the seed paper's section 4.2, for the uncertain parameters). For
   /// phi = (N v)_k, v column j of `a`: d phi / d g_p = -sum over p's entries e of J_{k,row(e)} (d_e . y), y = N v
@@ -195,6 +181,72 @@ class AffineInverseAction {
   /// z >= (I - |E|)^-1 rhs column by column, verified (so also z >= |x| for every x with |x| <= rhs + |E| |x|).
   /// @return false if the verification fails (the Neumann majorant does not converge).
   bool majorant(const DMat& rhs, DMat& z) const;
+
+  // prepare(), step by step (docs/enclosures.md and docs/uncertainty.md give the derivations).
+  /// Which bound of |C H_il| over the box the pose slopes come from (preparePoseSlopes()).
+  struct HessianSource {
+    bool affine = false;    ///< the model's affine bound (RobotModel::preconditionedHessianMagnitude)
+    bool box = false;       ///< the interval Hessian over the box
+    bool midpoint = false;  ///< a workspace box expanded at its midpoint (the affine bound in three parts)
+    bool centred() const { return affine || box; }
+  };
+  /// n_, vars_, params_, C, the geometry derivatives (into the workspace) and E0; false if they cannot be built.
+  bool prepareCentre(const model::RobotModel& model, const BoxInput& box, bool withGeometry);
+  /// The pose slopes dm_, dr_ (and the residual radius's data when it applies) and devMag_.
+  void preparePoseSlopes(const model::RobotModel& model, const BoxInput& box);
+  HessianSource boundHessian(const model::RobotModel& model, const BoxInput& box);
+  /// The direct ranges of D_i over the box (where the model's affine Hessian bound is not used) and devMag_.
+  void rangeSlopes(const model::RobotModel& model, const BoxInput& box, const HessianSource& source);
+  /// The centred range of D_i (intersected with the direct one), and its Taylor slope [tm -+ tr].
+  void centredSlope(int i, const HessianSource& source, DMat& tm, DMat& tr);
+  /// Entry by entry, the Taylor slopes where their sum of radii is the smaller.
+  void chooseTaylorSlopes(const std::array<DMat, kMaxDof>& tm, const std::array<DMat, kMaxDof>& tr);
+  void prepareResidualWeights();
+  /// |S|, |P|, the bisection weights and |S S|.
+  void boundPoseMagnitudes();
+  void boundPoseSquare();
+  /// h, the entries' derivatives d_e (and their affine forms) and the runs of entries per row.
+  void storeGeometryEntries(const model::RobotModel& model);
+  /// |C|, |d_e|, alpha, d_e . C, |E|, |E| |E|, |E0|; returns the bound of |L|.
+  DMat boundGeometryMagnitudes();
+  /// |d_e^T S|, |S C| and |d_e^T S C| with their dot products' cancellations.
+  void boundDotProducts();
+  void boundDotProductsWithC(const DMat& w, const DMat& sc, const EntryMat& absGm);
+  void prepareBilinear(const BoxInput& box);
+  void prepareAffineDeviations();
+  /// ~(I - |E|)^-1, ~(I - R(alpha))^-1 and the joint system's approximate inverse.
+  void approximateInverses();
+
+  // apply(), step by step: the terms of one call (defined in the .cpp file).
+  struct ColumnTerms;
+  /// V's midpoint-radius form, Y0 = V - E0 V and the majorant z >= |N V|; false if it does not converge.
+  bool startColumns(const IMat& v, ColumnTerms& s) const;
+  /// d_e . v (with the slope products sv for the bilinear terms).
+  void geometryDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* sv) const;
+  /// D_i V, |P V|, |L V| and the bound delta of |Y - Y0|.
+  void posePart(ColumnTerms& s) const;
+  /// q: sum_i dev_i |c_e . (D_i v)| (with the products q1 for the bilinear terms).
+  void centreDots(ColumnTerms& s, std::array<EntryMat, kMaxDof>* q1) const;
+  const EntryMat& poseDotRestOnce(ColumnTerms& s) const;
+  /// spread >= |y - v| (jointly with R(|d_e . (y - v)|) where the joint system is available).
+  void boundSpread(ColumnTerms& s) const;
+  bool boundSpreadJointly(const DMat& first, ColumnTerms& s) const;
+  /// sy >= |S y|.
+  void boundPoseProduct(ColumnTerms& s) const;
+  /// gsy >= |d_e . (S y)| through the affine forms' centres (columns that bound f_k).
+  void boundPoseDotsByCentre(ColumnTerms& s) const;
+  /// rho >= |d_e . (y - v)|, B, z refined, sigma.
+  void refineDots(ColumnTerms& s, AffineMatrix& out) const;
+  /// The bound of |E^2 N V| = |S S y| + |S L y| + |L S y| + |L L y| (its parts into `out`).
+  DMat boundRemainder(ColumnTerms& s, AffineMatrix& out) const;
+  void writePoseForms(ColumnTerms& s, const DMat& remainder, AffineMatrix& out) const;
+  void writeBilinear(const ColumnTerms& s, AffineMatrix& out) const;
+  void sharePoseRemainder(const ColumnTerms& s, AffineMatrix& out) const;
+  void writeGeometryForms(ColumnTerms& s, AffineMatrix& out) const;
+  /// R(x)(i, j) = up(sum over the entries e of row i of h_p(e) x(e, j)) (x >= 0, m columns).
+  DMat rowSums(const EntryMat& x, int m) const;
+  /// up(|C| R(x)) >= cgh x.
+  DMat chProduct(const EntryMat& x, int m) const;
 
   int n_ = 0, vars_ = 0, params_ = 0, entries_ = 0;
   DMat c_;
@@ -265,6 +317,52 @@ class AffineInverseAction {
   std::array<M6, MatrixHessian::kPairs> rh_, rhAbs_, rw_;
   mutable bool magNOk_ = false, magNFailed_ = false;
   mutable M6 magN_;
+
+  // upperOnFace(), step by step: u_e = d_e . y, Lambda_i and T_e = d_e . L y in midpoint-radius form.
+  struct FaceTerms {
+    double um[kEntries], ur[kEntries], tm[kEntries], tr[kEntries];
+    double lm[kMaxDof], lr[kMaxDof];
+  };
+  void faceLambdas(const double* s, FaceTerms& f) const;
+  void faceDots(FaceTerms& f) const;
+  /// (L L y)_k on the face: midpoint llm, radius llr (both start at 0).
+  void faceLL(int k, const double* s, const FaceTerms& f, double& llm, double& llr) const;
+
+  // tightenByResidual(), step by step.
+  using V6 = Eigen::Matrix<double, kMaxDof, 1>;
+  struct ResidualCentre {
+    M6 e0m, e0r, absE0;
+    double dev[kMaxDof];
+  };
+  /// One column: v (midpoint, radius) and its affine part x-hat = xc + sum_m xm[m] tau_m.
+  struct ResidualColumn {
+    V6 vm, vr, xc, axc, lin, ax;
+    V6 xm[kMaxDof], axm[kMaxDof];
+  };
+  /// The residual's bound (sum of |terms|), its roundings' magnitudes and the radii's part.
+  struct ResidualSums {
+    V6 bound, scale, rest;
+  };
+  /// |N| over the box (magN_) on first use; false if it cannot be bounded.
+  bool inverseMagnitudeReady() const;
+  /// >= |v - C J^-1(t) x-hat(tau)| over the box for column j.
+  V6 residualBound(const ResidualCentre& centre, const IMat& v, const AffineMatrix& a, int j) const;
+  void addQuadraticResidual(const double* dev, const ResidualColumn& x, ResidualSums& sums) const;
+
+  /// Scratch reused from box to box, so that nothing is allocated per box: the model's derivatives and Hessian
+  /// bounds (prepare()) and the forms of N I (tightenByResidual()). Callers keep one PreconditionedInverseEnclosure per
+  /// thread.
+  struct Workspace {
+    GeometryDerivatives geo;
+    MatrixHessian hessian, atCentre;  ///< over the box; at its centre
+    MatrixWithGradient poseD;         ///< J^-1 and its pose derivatives over the box (dual numbers)
+    /// >= |C H_il| over the box, per pair; with the box midpoint as centre t0 its three parts at t0 + s dt,
+    /// |C H_il| <= magCH + s linCH + s^2 quadCH, and the remainder's part restCH = |C| R0 and centre centreCH = C Hc
+    /// of the same affine Hessian forms (RobotModel::preconditionedHessianMagnitude).
+    std::array<DMat, MatrixHessian::kPairs> magCH, linCH, quadCH, restCH, centreCH;
+    AffineMatrix identityForms;  ///< N I (tightenByResidual(): |N| over the box)
+  };
+  mutable Workspace work_;
 };
 
 }  // namespace enclosure
