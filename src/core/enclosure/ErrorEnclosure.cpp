@@ -27,8 +27,9 @@ std::vector<std::string> enclosureNames() {
 }
 
 std::unique_ptr<ErrorEnclosure> makeEnclosure(const std::string& name) {
-  if (name == "second_order" || name == "default") return std::make_unique<MeanValueEnclosure>(true);
-  if (name == "mean_value") return std::make_unique<MeanValueEnclosure>(false);
+  if (name == "second_order" || name == "default")
+    return std::make_unique<MeanValueEnclosure>(MeanValueEnclosure::Bound::SecondOrderColumns);
+  if (name == "mean_value") return std::make_unique<MeanValueEnclosure>(MeanValueEnclosure::Bound::JacobianEntries);
   if (name == "precond") return std::make_unique<PreconditionedEnclosure>();
   if (name == "symbolic_precond") return std::make_unique<SymbolicPreconditionedEnclosure>();
   if (name == "combined") return std::make_unique<CombinedEnclosure>();
@@ -95,7 +96,7 @@ bool errorAtPose(const model::RobotModel& model, const IVec& pose, IVec& f, GMat
     in.hasGradient = true;
     in.rows = rows;
     ErrorBounds b;
-    MeanValueEnclosure(true).enclose(model, in, b);
+    MeanValueEnclosure(MeanValueEnclosure::Bound::SecondOrderColumns).enclose(model, in, b);
     if (b.upper.size() == dof && b.bounded(rows)) {
       f.resize(dof);
       for (int k = 0; k < dof; ++k) f[k] = Interval(std::max(0.0, b.lower[k]), b.upper[k]);

@@ -34,38 +34,60 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
   if (n_ != kMaxDof || !box.variablesArePose(n_) || params_ <= 0 || params_ > kMaxGeometryParameters)
     return Preparation::Unsupported;
   if (j0.rows != n_ || j0.cols != n_ || j0.vars != n_) return Preparation::Unsupported;
-  // The box variables are the pose coordinates, centred at the box midpoint: then the nominal forms' symbols
-  // tau_i = (t_i - t0_i) / dev_i and the model's tau'_i = (t_i - mid_i) / a_i (a_i >= the half-width, the scale
-  // AffineForm::variable gives) are related by tau'_i = kappa_i tau_i, kappa_i = dev_i / a_i.
   double kappa[kMaxDof];
-  for (int i = 0; i < n_; ++i) {
-    const Interval& c = box.centrePose[i];
-    if (!(c.lower() == c.upper() && c.lower() == box.pose[i].mid())) return Preparation::Unsupported;
-    const double a = Form::variable(box.pose[i], i).coefficient(i);
-    const double dev = box.deviation[i].mag();
-    if (!(a > 0.0) && dev > 0.0) return Preparation::Unsupported;
-    kappa[i] = a > 0.0 ? dev / a : 0.0;
-  }
-  static thread_local GeometryDerivatives geo;
-  geo.count = 0;
-  geo.withParameterSlopes = true;
-  if (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0 || geo.count > GeometryDerivatives::kCapacity)
-    return Preparation::Unsupported;
-  entries_ = geo.count;
-  for (int e = 0; e < entries_; ++e)
-    if (!geo.entries[e].affine) return Preparation::Unsupported;
-  e_ = model.sensorError();
-  for (int p = 0; p < params_; ++p)
-    h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
-
+  if (!poseScales(box, kappa)) return Preparation::Unsupported;
+  if (!loadDerivatives(model, box)) return Preparation::Unsupported;
   for (int k = 0; k < n_; ++k) {
     for (int j = 0; j < n_; ++j) {
       j0_[k][j] = entryForm(j0, k, j);
       magJ0_[k][j] = mag(j0_[k][j]);
     }
   }
+  storeDerivativeForms(kappa);
+  if (!boundDerivativesTimesPosePart(act)) return Preparation::Unsupported;
+  double dotCentre[GeometryDerivatives::kCapacity][kMaxDof], dotDev[GeometryDerivatives::kCapacity][kMaxDof];
+  boundCouplings(j0, dotCentre, dotDev);
+  buildPhiTables(dotCentre, dotDev);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j) a_[i][j] = up(a_[i][j]);
+  if (!boundJacobianIncrease()) return Preparation::Unverified;
+  certifySigns();
+  return Preparation::Ready;
+}
+
+bool GeometryIncrement::poseScales(const BoxInput& box, double* kappa) const {
+  // The box variables are the pose coordinates, centred at the box midpoint: then the nominal forms' symbols
+  // tau_i = (t_i - t0_i) / dev_i and the model's tau'_i = (t_i - mid_i) / a_i (a_i >= the half-width, the scale
+  // AffineForm::variable gives) are related by tau'_i = kappa_i tau_i, kappa_i = dev_i / a_i.
+  for (int i = 0; i < n_; ++i) {
+    const Interval& c = box.centrePose[i];
+    if (!(c.lower() == c.upper() && c.lower() == box.pose[i].mid())) return false;
+    const double a = Form::variable(box.pose[i], i).coefficient(i);
+    const double dev = box.deviation[i].mag();
+    if (!(a > 0.0) && dev > 0.0) return false;
+    kappa[i] = a > 0.0 ? dev / a : 0.0;
+  }
+  return true;
+}
+
+bool GeometryIncrement::loadDerivatives(const model::RobotModel& model, const BoxInput& box) {
+  GeometryDerivatives& geo = derivatives_;
+  geo.count = 0;
+  geo.withParameterSlopes = true;
+  if (!model.geometryDerivatives(box.pose, geo) || geo.count <= 0 || geo.count > GeometryDerivatives::kCapacity)
+    return false;
+  entries_ = geo.count;
+  for (int e = 0; e < entries_; ++e)
+    if (!geo.entries[e].affine) return false;
+  e_ = model.sensorError();
+  for (int p = 0; p < params_; ++p)
+    h_[p] = (model.geometryParameterRange(p) - Interval(model.geometryParameterCentre(p))).mag();
+  return true;
+}
+
+void GeometryIncrement::storeDerivativeForms(const double* kappa) {
   for (int e = 0; e < entries_; ++e) {
-    const GeometryRowDerivative& g = geo.entries[e];
+    const GeometryRowDerivative& g = derivatives_.entries[e];
     param_[e] = g.parameter;
     row_[e] = g.row;
     entryH_[e] = h_[g.parameter];
@@ -94,53 +116,58 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
       dDevK_[l][e] = up(0.5 * half);
     }
   }
+}
+
+bool GeometryIncrement::boundDerivativesTimesPosePart(const PreconditionedInverseEnclosure& act) {
   // |dbar_e^T S| <= |c_e^T S| + dev_e^T |S| (dbar_e in c_e +- dev_e componentwise over the box), with
   // |c_e^T S| <= |c_e^T E0m| + |c_e|^T E0r + sum_i (|c_e^T D_i,m| + |c_e|^T D_i,r) dev_i; the products c_e^T X in
   // double are off by less than kSumMargin |c_e|^T |X| (sums of 6 products).
-  {
-    const DMat& magS = act.poseMagnitude();
-    if (magS.rows() != n_ || magS.cols() != n_) return Preparation::Unsupported;
-    for (int l = 0; l < n_; ++l)
-      for (int e = 0; e < entries_; ++e) dS_[l][e] = 0.0;
-    // (Entries innermost: contiguous, vectorisable loops.)
-    double absC[kMaxDof][GeometryDerivatives::kCapacity], dev[kMaxDof][GeometryDerivatives::kCapacity];
-    for (int m = 0; m < n_; ++m)
-      for (int e = 0; e < entries_; ++e) {
-        absC[m][e] = std::abs(dC_[m][e]);
-        dev[m][e] = dDev_[m][e] + dDevK_[m][e] + kSumMargin * absC[m][e];
-      }
-    const auto addRow = [&](const DMat& xm, const DMat& xr, double scale) {
-      for (int l = 0; l < n_; ++l) {
-        double dot[GeometryDerivatives::kCapacity], mag[GeometryDerivatives::kCapacity];
-        for (int e = 0; e < entries_; ++e) dot[e] = mag[e] = 0.0;
-        for (int m = 0; m < n_; ++m) {
-          const double x = xm(m, l), y = std::abs(x) * kSumMargin + xr(m, l);
-          const double* c = dC_[m];
-          const double* a = absC[m];
-          for (int e = 0; e < entries_; ++e) {
-            dot[e] += c[e] * x;
-            mag[e] += a[e] * y;
-          }
-        }
-        for (int e = 0; e < entries_; ++e) dS_[l][e] += (std::abs(dot[e]) + mag[e]) * scale;
-      }
-    };
-    addRow(act.residualMid(), act.residualRad(), 1.0);
-    for (int i = 0; i < n_; ++i) addRow(act.poseSlopeMid(i), act.poseSlopeRad(i), act.deviation(i));
-    for (int l = 0; l < n_; ++l) {
-      double s[GeometryDerivatives::kCapacity];
-      for (int e = 0; e < entries_; ++e) s[e] = 0.0;
-      for (int m = 0; m < n_; ++m) {
-        const double x = magS(m, l);
-        for (int e = 0; e < entries_; ++e) s[e] += dev[m][e] * x;
-      }
-      for (int e = 0; e < entries_; ++e) dS_[l][e] = up(up(dS_[l][e]) + up(s[e]));
+  const DMat& magS = act.poseMagnitude();
+  if (magS.rows() != n_ || magS.cols() != n_) return false;
+  for (int l = 0; l < n_; ++l)
+    for (int e = 0; e < entries_; ++e) dS_[l][e] = 0.0;
+  // (Entries innermost: contiguous, vectorisable loops.)
+  double absC[kMaxDof][GeometryDerivatives::kCapacity], dev[kMaxDof][GeometryDerivatives::kCapacity];
+  for (int m = 0; m < n_; ++m)
+    for (int e = 0; e < entries_; ++e) {
+      absC[m][e] = std::abs(dC_[m][e]);
+      dev[m][e] = dDev_[m][e] + dDevK_[m][e] + kSumMargin * absC[m][e];
     }
+  const auto addRow = [&](const DMat& xm, const DMat& xr, double scale) {
+    for (int l = 0; l < n_; ++l) {
+      double dot[GeometryDerivatives::kCapacity], mag[GeometryDerivatives::kCapacity];
+      for (int e = 0; e < entries_; ++e) dot[e] = mag[e] = 0.0;
+      for (int m = 0; m < n_; ++m) {
+        const double x = xm(m, l), y = std::abs(x) * kSumMargin + xr(m, l);
+        const double* c = dC_[m];
+        const double* a = absC[m];
+        for (int e = 0; e < entries_; ++e) {
+          dot[e] += c[e] * x;
+          mag[e] += a[e] * y;
+        }
+      }
+      for (int e = 0; e < entries_; ++e) dS_[l][e] += (std::abs(dot[e]) + mag[e]) * scale;
+    }
+  };
+  addRow(act.residualMid(), act.residualRad(), 1.0);
+  for (int i = 0; i < n_; ++i) addRow(act.poseSlopeMid(i), act.poseSlopeRad(i), act.deviation(i));
+  for (int l = 0; l < n_; ++l) {
+    double s[GeometryDerivatives::kCapacity];
+    for (int e = 0; e < entries_; ++e) s[e] = 0.0;
+    for (int m = 0; m < n_; ++m) {
+      const double x = magS(m, l);
+      for (int e = 0; e < entries_; ++e) s[e] += dev[m][e] * x;
+    }
+    for (int e = 0; e < entries_; ++e) dS_[l][e] = up(up(dS_[l][e]) + up(s[e]));
   }
+  return true;
+}
+
+void GeometryIncrement::boundCouplings(const PreconditionedInverseEnclosure::AffineMatrix& j0,
+                                       double (*dotCentre)[kMaxDof], double (*dotDev)[kMaxDof]) {
   // A(i, j) >= |delta r_i . J0_{.,j}| (per (i, j) the entries added in the same order as entry by entry).
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) a_[i][j] = 0.0;
-  double dotCentre[GeometryDerivatives::kCapacity][kMaxDof], dotDev[GeometryDerivatives::kCapacity][kMaxDof];
   for (int j = 0; j < n_; ++j) {
     Form column[kMaxDof], out[GeometryDerivatives::kCapacity];
     double kw[GeometryDerivatives::kCapacity];
@@ -154,6 +181,9 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
       dotDev[e][j] = up(out[e].deviation() + kw[e]);
     }
   }
+}
+
+void GeometryIncrement::buildPhiTables(const double (*dotCentre)[kMaxDof], const double (*dotDev)[kMaxDof]) {
   // phi(): per row i and sign pattern eta of its entries (the first one +1: |.| is even), |sum_e eta_e h_e c_ej|
   // (sums of at most kPhiEntries products, rounding below kSumMargin times the sum of their magnitudes), and D.
   for (int i = 0; i < n_; ++i) rowEntries_[i] = 0;
@@ -179,8 +209,9 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
         phiP_[i][eta * n_ + j] = std::abs(sum) + kSumMargin * magnitude;
       }
   }
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j) a_[i][j] = up(a_[i][j]);
+}
+
+bool GeometryIncrement::boundJacobianIncrease() {
   // Y = Delta M J (row i: delta r_i^T J, J = J(t, g)) satisfies Y = Delta M J0 + Delta M Delta J = Delta M J0 -
   // Delta M J0 Y (Delta J = -J0 Delta M J = -J0 Y), so |Y| <= A + A |Y|: a bound Ybar > 0 with A + A Ybar <= Ybar
   // proves rho(A) < 1 and |Y| <= Ybar; then |Delta J| <= |J0| Ybar = DJ. (A keeps the cancellations inside the dot
@@ -191,7 +222,7 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
   aApprox_ = (DMat::Identity(n_, n_) - aMat_).inverse();
   if (!aApprox_.allFinite()) aApprox_ = DMat::Identity(n_, n_);
   DMat ybar;
-  if (!PreconditionedInverseEnclosure::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return Preparation::Unverified;
+  if (!PreconditionedInverseEnclosure::fixedPointBound(aMat_, aApprox_, aMat_, ybar)) return false;
   // Column j of Y: |Y_ij| <= A_ij + |sum_i' (delta r_i . J0_{.,i'}) Y_i'j| <= A_ij + phi_i(|Y_.j|) (the signs of the
   // Y_i'j chosen jointly with leg i's geometry).
   for (int j = 0; j < n_; ++j) {
@@ -209,6 +240,10 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
       for (int i = 0; i < n_; ++i) s += magJ0_[k][i] * ybar(i, j);
       dj_[k][j] = up(s);
     }
+  return true;
+}
+
+void GeometryIncrement::certifySigns() {
   signs_ = SignPattern();
   for (int k = 0; k < n_; ++k)
     for (int j = 0; j < n_; ++j) {
@@ -217,7 +252,6 @@ GeometryIncrement::Preparation GeometryIncrement::prepare(const model::RobotMode
       if (range.lower() > dj_[k][j]) signs_.positive |= std::uint64_t(1) << bit;
       if (range.upper() < -dj_[k][j]) signs_.negative |= std::uint64_t(1) << bit;
     }
-  return Preparation::Ready;
 }
 
 void GeometryIncrement::dots(const Form* w, Form* out) const {
@@ -379,22 +413,37 @@ GeometryIncrement::Form GeometryIncrement::entryForm(const PreconditionedInverse
 
 bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, Row& out) const {
   DMat rowB0 = DMat::Zero(n_, 1);  // >= |Delta M w|_i = |delta r_i . w|
+  ParameterForms b;
+  double cross = 0.0;
+  parameterForms(k, w, part, b, rowB0, cross);
+  // B_i >= |delta r_i . y|, y = J u = w - J0 Delta M y: |Delta M y| <= B0 + A |Delta M y|.
+  for (int i = 0; i < n_; ++i) rowB0(i, 0) = up(rowB0(i, 0));
+  DMat rowB;
+  if (!PreconditionedInverseEnclosure::fixedPointBound(aMat_, aApprox_, rowB0, rowB)) return false;
+  double constant = 0.0, magnitude = 0.0;
+  firstOrderBound(b, out, constant, magnitude);
+  out.second = up(secondOrderSum(k, rowB0, rowB) + up(cross));
+  out.constant = up(up(constant) + out.second);
+  out.magnitude = up(up(magnitude) + out.second);
+  return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);
+}
+
+void GeometryIncrement::parameterForms(int k, const Form* w, const SeparablePart& part, ParameterForms& b, DMat& rowB0,
+                                       double& cross) const {
   Form dws[GeometryDerivatives::kCapacity];
   columnDots(w, part, dws);
   // With the parameter terms (GeometryRowDerivative::parameterSlopes), dbar_e = (its pose form) + sum_s kappa_s
   // gamma'_s / 2: dbar_e . w = dws_e + sum_s gamma'_s (kappa_s . w) / 2, so b_p gets terms gamma'_s gamma_p
   // (second order in the geometry), bounded in magnitude: sum_e h_e |J0_{k,row(e)}| parameterDots(w)_e.
-  double cross = 0.0, kw[GeometryDerivatives::kCapacity];
+  double kw[GeometryDerivatives::kCapacity];
   parameterDots(w, kw);
   // b_p = sum over p's entries of J0_{k,row(e)} dws_e, the products of interval::AffineForm (the square terms' mean
   // to the centre) summed per parameter in arrays: every centre and coefficient is a sum of at most 8 products and
   // sums per entry, at most 6 entries per parameter, so its rounding error is below kSumMargin times the sum of the
   // magnitudes of its terms (berr); the radius terms are >= 0 and up() covers their relative rounding.
-  double bc[kMaxGeometryParameters], ba[kMaxDof][kMaxGeometryParameters], br[kMaxGeometryParameters];
-  double berr[kMaxGeometryParameters];
   for (int q = 0; q < params_; ++q) {
-    bc[q] = br[q] = berr[q] = 0.0;
-    for (int m = 0; m < kMaxDof; ++m) ba[m][q] = 0.0;
+    b.bc[q] = b.br[q] = b.berr[q] = 0.0;
+    for (int m = 0; m < kMaxDof; ++m) b.ba[m][q] = 0.0;
   }
   for (int e = 0; e < entries_; ++e) {
     const Form& x = j0_[k][row_[e]];
@@ -404,7 +453,7 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
     double half = 0.0, halfMag = 0.0, err = 0.0, sx = x.radius(), sy2 = y.radius();
     for (int m = 0; m < kMaxDof; ++m) {
       const double xm = x.coefficient(m), ym = y.coefficient(m);
-      ba[m][q] += xc * ym + yc * xm;
+      b.ba[m][q] += xc * ym + yc * xm;
       const double d = xm * ym;
       half += d;
       halfMag += std::abs(d);
@@ -413,16 +462,15 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
       sy2 += std::abs(ym);
     }
     const double c = xc * yc + 0.5 * half;
-    bc[q] += c;
-    br[q] += axc * y.radius() + ayc * x.radius() + (sx * sy2 - 0.5 * (1.0 - kSumMargin) * halfMag);
-    berr[q] += err + std::abs(xc * yc) + std::abs(c) + 2.0 * halfMag + std::abs(bc[q]);
+    b.bc[q] += c;
+    b.br[q] += axc * y.radius() + ayc * x.radius() + (sx * sy2 - 0.5 * (1.0 - kSumMargin) * halfMag);
+    b.berr[q] += err + std::abs(xc * yc) + std::abs(c) + 2.0 * halfMag + std::abs(b.bc[q]);
     rowB0(row_[e], 0) += entryH_[e] * up(mag(y) + kw[e]);
     cross += entryH_[e] * up(magJ0_[k][row_[e]] * kw[e]);
   }
-  // B_i >= |delta r_i . y|, y = J u = w - J0 Delta M y: |Delta M y| <= B0 + A |Delta M y|.
-  for (int i = 0; i < n_; ++i) rowB0(i, 0) = up(rowB0(i, 0));
-  DMat rowB;
-  if (!PreconditionedInverseEnclosure::fixedPointBound(aMat_, aApprox_, rowB0, rowB)) return false;
+}
+
+void GeometryIncrement::firstOrderBound(const ParameterForms& b, Row& out, double& constant, double& magnitude) const {
   // First order: max over gamma of sum_q gamma_q h_q b_q = sum_q h_q |b_q| <= sum_q (weight_q b_q + offset_q).
   // The parameters whose b_q has a certain sign have exact secants (weight +-h_q, offset 0): the others (ranges
   // across 0) are also kept as they are (Row::straddling), for the exact maximum at the vertices. The sums of
@@ -431,40 +479,42 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
   double lc[2] = {0.0, 0.0}, la[2][kMaxDof] = {}, lr[2] = {0.0, 0.0}, lerr[2] = {0.0, 0.0};
   out.straddling = 0;
   out.params = params_;
-  double constant = 0.0, magnitude = 0.0;
   for (int q = 0; q < params_; ++q) {
     double dev = 0.0, coefficients[kMaxDof];
     for (int m = 0; m < kMaxDof; ++m) {
-      coefficients[m] = ba[m][q];
-      dev += std::abs(ba[m][q]);
+      coefficients[m] = b.ba[m][q];
+      dev += std::abs(b.ba[m][q]);
     }
-    const double radius = up(br[q] + kSumMargin * berr[q]);
+    const double radius = up(b.br[q] + kSumMargin * b.berr[q]);
     dev = up(dev + radius);
-    const Interval range(interval::rounding::subDown(bc[q], dev), interval::rounding::addUp(bc[q], dev));
+    const Interval range(interval::rounding::subDown(b.bc[q], dev), interval::rounding::addUp(b.bc[q], dev));
     const interval::AbsSecant secant = interval::absSecant(range, h_[q]);
     const double weight = secant.weight;
     const bool straddles = range.lower() < 0.0 && range.upper() > 0.0;
     for (int part = 0; part < (straddles ? 1 : 2); ++part) {  // (0: linear, every q; 1: fixed, the others)
-      const double t = weight * bc[q];
+      const double t = weight * b.bc[q];
       lc[part] += t;
       lerr[part] += std::abs(t);
       for (int m = 0; m < kMaxDof; ++m) {
-        const double u = weight * ba[m][q];
+        const double u = weight * b.ba[m][q];
         la[part][m] += u;
         lerr[part] += std::abs(u);
       }
       lr[part] += std::abs(weight) * radius;
     }
     if (straddles) {
-      out.straddle[out.straddling] = Form::fromParts(bc[q], coefficients, radius);
+      out.straddle[out.straddling] = Form::fromParts(b.bc[q], coefficients, radius);
       out.straddleH[out.straddling++] = h_[q];
     }
     constant += secant.offset;
     magnitude += h_[q] * range.mag();
-    out.coefficient[q] = -h_[q] * bc[q];
+    out.coefficient[q] = -h_[q] * b.bc[q];
   }
   out.linear = Form::fromParts(lc[0], la[0], up(lr[0] + kSumMargin * lerr[0]));
   out.fixed = Form::fromParts(lc[1], la[1], up(lr[1] + kSumMargin * lerr[1]));
+}
+
+double GeometryIncrement::secondOrderSum(int k, const DMat& rowB0, const DMat& rowB) const {
   // Second order: sum_i J0_ki sum_i' (delta r_i . J0_{.,i'}) (delta r_i' . y) <= sum_i |J0_ki| phi_i(B), B >= |delta r
   // . y| the fixed point of B <= B0 + phi(B) (B0 >= |delta r . w|; y = w - J0 Delta M y), tightened from the linear
   // one. (The signs of the delta r_i' . y are chosen jointly for row i, where (A B)_i takes every pair (i, i') at its
@@ -478,11 +528,7 @@ bool GeometryIncrement::bound(int k, const Form* w, const SeparablePart& part, R
   tightenFixedPoint(b0, b, kPhiRounds);
   double second = 0.0;
   for (int i = 0; i < n_; ++i) second += magJ0_[k][i] * phi(i, b);
-  second = up(second);
-  out.second = up(second + up(cross));
-  out.constant = up(up(constant) + out.second);
-  out.magnitude = up(up(magnitude) + out.second);
-  return out.linear.finite() && std::isfinite(out.constant) && std::isfinite(out.magnitude);
+  return up(second);
 }
 
 double GeometryIncrement::phi(int i, const double* x) const {

@@ -485,6 +485,132 @@ void cross(const interval::AffineForm<N> x[3], const interval::AffineForm<N> y[3
   out[1] = x[2] * y[0] - x[0] * y[2];
   out[2] = x[0] * y[1] - x[1] * y[0];
 }
+
+/// The pose pieces shared by the legs in GoughPlatform::affineGeometryDerivativesWith(): the pose and R in the N
+/// symbols, and R c (the tool point c; not computed where c = 0).
+template <int N>
+struct AffinePoseFrame {
+  using Aff = interval::AffineForm<N>;
+  Aff pose[6];
+  RotationOps<Aff> rot;
+  bool toolAtOrigin = false;
+  Aff tool[3];
+};
+
+/// One leg's pieces in the N symbols: d = p + R b - A, u = R (b - c), n = d / L, m = (u x d) / L, inv = 1 / L.
+template <int N>
+struct AffineLeg {
+  using Aff = interval::AffineForm<N>;
+  bool built = false;
+  Aff d[3], u[3], n[3], m[3], inv;
+  Aff arm[3];       ///< p + R c - A_i (the platform anchors' moment arm)
+  double scale[6];  ///< the anchor symbols' scales (0: none)
+};
+
+/// The anchor coordinate x (an interval of centre x0 and parameter p, or exact) as a form: with the anchor symbols
+/// (N = 2 kMaxDof), x0 + scale gamma (scale >= |range - x0|, gamma the symbol `symbol`); without, the interval
+/// itself (its width to the radius).
+template <int N>
+interval::AffineForm<N> anchorForm(const Interval& x, const Interval& x0, int p, int symbol, double& scale) {
+  using Aff = interval::AffineForm<N>;
+  constexpr bool kAnchorSymbols = N == 2 * kMaxDof;
+  scale = 0.0;
+  if (!kAnchorSymbols || p < 0 || x.isPoint()) return Aff(x);
+  double coefficients[N] = {};
+  scale = (x - x0).mag();
+  coefficients[symbol] = scale;
+  return Aff::fromParts(x0.lower(), coefficients, 0.0);
+}
+
+/// Leg i's pieces from its anchors a (base), b (platform), their centres and parameters (-1: no symbol).
+template <int N>
+void buildAffineLeg(const std::array<Interval, 3>& a, const std::array<Interval, 3>& aMid,
+                    const std::array<Interval, 3>& b, const std::array<Interval, 3>& bMid, const int baseParam[3],
+                    const int platformParam[3], const AffinePoseFrame<N>& frame, AffineLeg<N>& leg) {
+  using Aff = interval::AffineForm<N>;
+  const auto& r = frame.rot.r;
+  leg.built = true;
+  Aff af[3], bf[3];
+  for (int k = 0; k < 3; ++k) {
+    af[k] = anchorForm<N>(a[k], aMid[k], baseParam[k], kMaxDof + k, leg.scale[k]);
+    bf[k] = anchorForm<N>(b[k], bMid[k], platformParam[k], kMaxDof + 3 + k, leg.scale[3 + k]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    Aff rb(0.0);
+    for (int l = 0; l < 3; ++l) rb += r[k][l] * bf[l];
+    leg.d[k] = frame.pose[k] + rb - af[k];
+    leg.u[k] = frame.toolAtOrigin ? rb : rb - frame.tool[k];  // R (b - c) = R b - R c
+    leg.arm[k] = frame.pose[k] + frame.tool[k] - af[k];
+  }
+  leg.inv = reciprocal(sqrt(leg.d[0] * leg.d[0] + leg.d[1] * leg.d[1] + leg.d[2] * leg.d[2]));
+  Aff w[3];
+  cross(leg.u, leg.d, w);
+  for (int k = 0; k < 3; ++k) {
+    leg.n[k] = leg.d[k] * leg.inv;
+    leg.m[k] = w[k] * leg.inv;
+  }
+}
+
+/// The derivative of the leg's row (n, m) with respect to base anchor coordinate c: dd = -e_c, du = 0, so
+/// dL = -n_c, dn = (n n_c - e_c) / L, dm = (m n_c - u x e_c) / L.
+template <int N>
+void baseAnchorDerivative(const AffineLeg<N>& leg, int c, interval::AffineForm<N> v[6]) {
+  using Aff = interval::AffineForm<N>;
+  const int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+  // u x e_c: component c is 0, component c1 is u_c2, component c2 is -u_c1.
+  Aff ue[3];
+  ue[c] = Aff(0.0);
+  ue[c1] = leg.u[c2];
+  ue[c2] = -leg.u[c1];
+  for (int k = 0; k < 3; ++k) {
+    v[k] = (k == c ? leg.n[k] * leg.n[c] - Aff(1.0) : leg.n[k] * leg.n[c]) * leg.inv;
+    v[3 + k] = (leg.m[k] * leg.n[c] - ue[k]) * leg.inv;
+  }
+}
+
+/// The same for platform anchor coordinate c: dd = du = R e_c, so dL = n . R e_c, dn = (R e_c - n dL) / L,
+/// dm = (R e_c x (d - u) - m dL) / L, d - u = p + R c - A_i (the leg's arm).
+template <int N>
+void platformAnchorDerivative(const AffineLeg<N>& leg, const AffinePoseFrame<N>& frame, int c,
+                              interval::AffineForm<N> v[6]) {
+  using Aff = interval::AffineForm<N>;
+  const auto& r = frame.rot.r;
+  const Aff column[3] = {r[0][c], r[1][c], r[2][c]};  // R e_c
+  Aff dw[3];
+  const Aff dl = leg.n[0] * column[0] + leg.n[1] * column[1] + leg.n[2] * column[2];
+  cross(column, leg.arm, dw);
+  for (int k = 0; k < 3; ++k) {
+    v[k] = (column[k] - leg.n[k] * dl) * leg.inv;
+    v[3 + k] = (dw[k] - leg.m[k] * dl) * leg.inv;
+  }
+}
+
+/// The entry from the derivative's forms v: the affine form, and its range as the midpoint-radius enclosure (an
+/// infinite radius where the form is not finite, e.g. a leg length range reaching 0: the callers then fall back to
+/// other enclosures); with the anchor symbols, the terms in the leg's anchor parameters apart.
+template <int N>
+void storeAffineEntry(const interval::AffineForm<N> v[6], const AffineLeg<N>& leg, const int baseParam[3],
+                      const int platformParam[3], GeometryRowDerivative& entry) {
+  constexpr bool kAnchorSymbols = N == 2 * kMaxDof;
+  bool finite = true;
+  for (int l = 0; l < 6; ++l) {
+    finite = finite && v[l].finite();
+    entry.centre[l] = v[l].centre();
+    entry.radius[l] = v[l].radius();
+    for (int m = 0; m < 6; ++m) entry.slope[l][m] = v[l].coefficient(m);
+    entry.d[l] = interval::MidRad(v[l].centre(), v[l].deviation());
+    if (kAnchorSymbols)
+      for (int s = 0; s < 6; ++s) entry.parameterSlope[l][s] = v[l].coefficient((kMaxDof + s) % N);
+  }
+  entry.parameterSlopes = kAnchorSymbols;
+  for (int s = 0; s < 6 && kAnchorSymbols; ++s) {
+    entry.slopeParameter[s] = leg.scale[s] > 0.0 ? (s < 3 ? baseParam[s] : platformParam[s - 3]) : -1;
+    entry.parameterScale[s] = leg.scale[s];
+  }
+  entry.affine = finite;
+  if (!finite)
+    for (int l = 0; l < 6; ++l) entry.d[l] = interval::MidRad(0.0, std::numeric_limits<double>::infinity());
+}
 }  // namespace
 
 void GoughPlatform::affineGeometryDerivatives(const IVec& q, GeometryDerivatives& out) const {
@@ -508,110 +634,32 @@ void GoughPlatform::affineGeometryDerivativesWith(const IVec& q, GeometryDerivat
     if (params_[p].kind == Parameter::Base) baseParam[params_[p].leg][params_[p].coord] = p;
     if (params_[p].kind == Parameter::Platform) platformParam[params_[p].leg][params_[p].coord] = p;
   }
-  // The anchor coordinate x (an interval of centre x0 and parameter p, or exact) as a form: with symbols, x0 +
-  // scale gamma (scale >= |range - x0|); without, the interval itself (its width to the radius).
-  const auto anchor = [&](const Interval& x, const Interval& x0, int p, int symbol, double& scale) {
-    scale = 0.0;
-    if (!kAnchorSymbols || p < 0 || x.isPoint()) return Aff(x);
-    double coefficients[N] = {};
-    scale = (x - x0).mag();
-    coefficients[symbol] = scale;
-    return Aff::fromParts(x0.lower(), coefficients, 0.0);
-  };
   // Row i of J^-1 is (n, m) = (d / L, u x d / L), d = p + R b_i - A_i, u = R (b_i - c), L = |d|. Each anchor
   // coordinate moves d and u along a fixed direction (dL = (d . dd) / L, dn = (dd - n dL) / L,
-  // dm = (du x d + u x dd - m dL) / L):
-  //   base anchor A_i, coordinate c: dd = -e_c, du = 0: dL = -n_c, dn = (n n_c - e_c) / L, dm = (m n_c - u x e_c) / L;
-  //   platform anchor b_i:           dd = du = R e_c:   du x d + u x dd = R e_c x (d - u), d - u = p + R c - A_i.
+  // dm = (du x d + u x dd - m dL) / L): baseAnchorDerivative(), platformAnchorDerivative().
   // Evaluated in first-order affine arithmetic with one noise symbol per pose coordinate; the anchors' and the tool
   // point's ranges are constants, so their effect goes to the radii.
-  Aff pose[6];
-  RotationOps<Aff> rot;
-  affineRotation<Aff>(q, pose, rot, false);
-  const auto& r = rot.r;
-  const bool toolAtOrigin = c_[0] == 0.0 && c_[1] == 0.0 && c_[2] == 0.0;
-  Aff tool[3];
-  for (int k = 0; k < 3 && !toolAtOrigin; ++k)
-    tool[k] = r[k][0] * Aff(c_[0]) + r[k][1] * Aff(c_[1]) + r[k][2] * Aff(c_[2]);
-  struct Leg {
-    bool built = false;
-    Aff d[3], u[3], n[3], m[3], inv;
-    Aff arm[3];       ///< p + R c - A_i (the platform anchors' moment arm)
-    double scale[6];  ///< the anchor symbols' scales (0: none)
-  };
-  Leg legs[6];
-  auto legOf = [&](int i) -> const Leg& {
-    Leg& leg = legs[i];
-    if (leg.built) return leg;
-    leg.built = true;
-    Aff a[3], b[3];
-    for (int k = 0; k < 3; ++k) {
-      a[k] = anchor(a_[i][k], aMid_[i][k], baseParam[i][k], kMaxDof + k, leg.scale[k]);
-      b[k] = anchor(b_[i][k], bMid_[i][k], platformParam[i][k], kMaxDof + 3 + k, leg.scale[3 + k]);
-    }
-    for (int k = 0; k < 3; ++k) {
-      Aff rb(0.0);
-      for (int l = 0; l < 3; ++l) rb += r[k][l] * b[l];
-      leg.d[k] = pose[k] + rb - a[k];
-      leg.u[k] = toolAtOrigin ? rb : rb - tool[k];  // R (b - c) = R b - R c
-      leg.arm[k] = pose[k] + tool[k] - a[k];
-    }
-    leg.inv = reciprocal(sqrt(leg.d[0] * leg.d[0] + leg.d[1] * leg.d[1] + leg.d[2] * leg.d[2]));
-    Aff w[3];
-    cross(leg.u, leg.d, w);
-    for (int k = 0; k < 3; ++k) {
-      leg.n[k] = leg.d[k] * leg.inv;
-      leg.m[k] = w[k] * leg.inv;
-    }
-    return leg;
-  };
+  AffinePoseFrame<N> frame;
+  affineRotation<Aff>(q, frame.pose, frame.rot, false);
+  const auto& r = frame.rot.r;
+  frame.toolAtOrigin = c_[0] == 0.0 && c_[1] == 0.0 && c_[2] == 0.0;
+  for (int k = 0; k < 3 && !frame.toolAtOrigin; ++k)
+    frame.tool[k] = r[k][0] * Aff(c_[0]) + r[k][1] * Aff(c_[1]) + r[k][2] * Aff(c_[2]);
+  AffineLeg<N> legs[6];
   for (int e = 0; e < out.count; ++e) {
     GeometryRowDerivative& entry = out.entries[e];
     const Parameter& par = params_[entry.parameter];
     if (par.kind == Parameter::Tool) continue;
-    const int i = par.leg, c = par.coord, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-    const Leg& leg = legOf(i);
+    const int i = par.leg, c = par.coord;
+    AffineLeg<N>& leg = legs[i];
+    if (!leg.built) buildAffineLeg<N>(a_[i], aMid_[i], b_[i], bMid_[i], baseParam[i], platformParam[i], frame, leg);
     Aff v[6];
     if (par.kind == Parameter::Base) {
-      // u x e_c: component c is 0, component c1 is u_c2, component c2 is -u_c1.
-      Aff ue[3];
-      ue[c] = Aff(0.0);
-      ue[c1] = leg.u[c2];
-      ue[c2] = -leg.u[c1];
-      for (int k = 0; k < 3; ++k) {
-        v[k] = (k == c ? leg.n[k] * leg.n[c] - Aff(1.0) : leg.n[k] * leg.n[c]) * leg.inv;
-        v[3 + k] = (leg.m[k] * leg.n[c] - ue[k]) * leg.inv;
-      }
+      baseAnchorDerivative<N>(leg, c, v);
     } else {
-      const Aff column[3] = {r[0][c], r[1][c], r[2][c]};  // R e_c
-      Aff dw[3];
-      const Aff dl = leg.n[0] * column[0] + leg.n[1] * column[1] + leg.n[2] * column[2];
-      cross(column, leg.arm, dw);
-      for (int k = 0; k < 3; ++k) {
-        v[k] = (column[k] - leg.n[k] * dl) * leg.inv;
-        v[3 + k] = (dw[k] - leg.m[k] * dl) * leg.inv;
-      }
+      platformAnchorDerivative<N>(leg, frame, c, v);
     }
-    // The entry: the affine form, and its range as the midpoint-radius enclosure (an infinite radius where the form
-    // is not finite, e.g. a leg length range reaching 0: the callers then fall back to other enclosures).
-    bool finite = true;
-    for (int l = 0; l < 6; ++l) {
-      finite = finite && v[l].finite();
-      entry.centre[l] = v[l].centre();
-      entry.radius[l] = v[l].radius();
-      for (int m = 0; m < 6; ++m) entry.slope[l][m] = v[l].coefficient(m);
-      entry.d[l] = interval::MidRad(v[l].centre(), v[l].deviation());
-      if (kAnchorSymbols)
-        for (int s = 0; s < 6; ++s) entry.parameterSlope[l][s] = v[l].coefficient((kMaxDof + s) % N);
-    }
-    entry.parameterSlopes = kAnchorSymbols;
-    for (int s = 0; s < 6 && kAnchorSymbols; ++s) {
-      entry.slopeParameter[s] = leg.scale[s] > 0.0 ? (s < 3 ? baseParam[i][s] : platformParam[i][s - 3]) : -1;
-      entry.parameterScale[s] = leg.scale[s];
-    }
-    entry.affine = finite;
-    if (!finite)
-      for (int l = 0; l < 6; ++l) entry.d[l] = interval::MidRad(0.0, std::numeric_limits<double>::infinity());
+    storeAffineEntry<N>(v, leg, baseParam[i], platformParam[i], entry);
   }
 }
 
@@ -837,6 +885,50 @@ void GoughPlatform::derivatives(const IVec& q, const Anchors& a, const Anchors& 
   }
 }
 
+namespace {
+/// The second derivatives of J^-1 (hessian()'s formulas) at the anchors' and tool point's centres a, b, c, in the
+/// affine form type S over the pose (pose and rm from affineRotation()): h[pair][row * 6 + column].
+/// @return false if one of them is not finite.
+template <typename S>
+bool hessianForms(const S pose[6], const RotationOps<S>& rm, const std::array<std::array<Interval, 3>, 6>& a,
+                  const std::array<std::array<Interval, 3>, 6>& b, const std::array<Interval, 3>& c,
+                  std::array<std::array<S, 36>, MatrixHessian::kPairs>& h) {
+  const auto& r = rm.r;
+  bool finite = true;
+  for (int i = 0; i < 6; ++i) {
+    S bv[3], bc[3], d[3], u[3], w[3], n[3], m[3];
+    for (int k = 0; k < 3; ++k) {
+      bv[k] = S(b[i][k]);
+      bc[k] = S(b[i][k] - c[k]);
+    }
+    for (int k = 0; k < 3; ++k) {
+      d[k] = pose[k] + (r[k][0] * bv[0] + r[k][1] * bv[1] + r[k][2] * bv[2]) - S(a[i][k]);
+      u[k] = r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2];
+    }
+    const S inv = reciprocal(sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+    RotationOps<S>::cross(u, d, w);
+    for (int k = 0; k < 3; ++k) {
+      n[k] = d[k] * inv;
+      m[k] = w[k] * inv;
+    }
+    const LegFirst<S> first(rm, d, u, n, m, inv, bv, bc);
+    for (int va = 0; va < 6; ++va) {
+      for (int vb = va; vb < 6; ++vb) {
+        S hn[3], hm[3];
+        legSecond(rm, d, u, n, m, inv, bv, bc, first, va, vb, hn, hm);
+        std::array<S, 36>& hp = h[MatrixHessian::index(va, vb)];
+        for (int k = 0; k < 3; ++k) {
+          hp[i * 6 + k] = hn[k];
+          hp[i * 6 + 3 + k] = hm[k];
+          finite = finite && hn[k].finite() && hm[k].finite();
+        }
+      }
+    }
+  }
+  return finite;
+}
+}  // namespace
+
 bool GoughPlatform::preconditionedHessianMagnitude(const IVec& q, const DMat& c,
                                                    std::array<DMat, MatrixHessian::kPairs>& out,
                                                    std::array<DMat, MatrixHessian::kPairs>* linear,
@@ -865,39 +957,10 @@ bool GoughPlatform::hessianMagnitude(const IVec& q, const DMat& c, std::array<DM
   S pose[6];
   RotationOps<S> rm;
   affineRotation<S>(q, pose, rm, true);
-  const auto& r = rm.r;
-  static thread_local std::array<std::array<S, 36>, MatrixHessian::kPairs> h;
-  bool finite = true;
-  for (int i = 0; i < 6; ++i) {
-    S bv[3], bc[3], d[3], u[3], w[3], n[3], m[3];
-    for (int k = 0; k < 3; ++k) {
-      bv[k] = S(bMid_[i][k]);
-      bc[k] = S(bMid_[i][k] - cMid_[k]);
-    }
-    for (int k = 0; k < 3; ++k) {
-      d[k] = pose[k] + (r[k][0] * bv[0] + r[k][1] * bv[1] + r[k][2] * bv[2]) - S(aMid_[i][k]);
-      u[k] = r[k][0] * bc[0] + r[k][1] * bc[1] + r[k][2] * bc[2];
-    }
-    const S inv = reciprocal(sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
-    RotationOps<S>::cross(u, d, w);
-    for (int k = 0; k < 3; ++k) {
-      n[k] = d[k] * inv;
-      m[k] = w[k] * inv;
-    }
-    const LegFirst<S> first(rm, d, u, n, m, inv, bv, bc);
-    for (int va = 0; va < 6; ++va) {
-      for (int vb = va; vb < 6; ++vb) {
-        S hn[3], hm[3];
-        legSecond(rm, d, u, n, m, inv, bv, bc, first, va, vb, hn, hm);
-        std::array<S, 36>& hp = h[MatrixHessian::index(va, vb)];
-        for (int k = 0; k < 3; ++k) {
-          hp[i * 6 + k] = hn[k];
-          hp[i * 6 + 3 + k] = hm[k];
-          finite = finite && hn[k].finite() && hm[k].finite();
-        }
-      }
-    }
-  }
+  // The second derivatives' forms, pair by pair (each pair's 6 x 6 matrix row-major; on the stack, every entry
+  // written by hessianForms() before it is read).
+  std::array<std::array<S, 36>, MatrixHessian::kPairs> h;
+  const bool finite = hessianForms<S>(pose, rm, aMid_, bMid_, cMid_, h);
   if (!finite) return false;
   // (Fixed-size 6 x 6 matrices: these products unroll and vectorise, the dynamic ones do not.)
   using M6 = Eigen::Matrix<double, 6, 6>;

@@ -18,7 +18,7 @@ class CombinedEnclosure final : public ErrorEnclosure {
   void enclose(const model::RobotModel& model, const BoxInput& box, ErrorBounds& out) const override;
 
  private:
-  MeanValueEnclosure secondOrder_{true};
+  MeanValueEnclosure secondOrder_{MeanValueEnclosure::Bound::SecondOrderColumns};
   SymbolicPreconditionedEnclosure symbolic_;
 };
 

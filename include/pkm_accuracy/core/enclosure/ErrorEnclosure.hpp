@@ -3,7 +3,8 @@
 // For pose component k, f_k(X) = sum_j |J_kj(X)| e_j is the worst error at pose X when every leg sensor error is
 // bounded by e_j (J = (J^-1)^-1). A method returns, for a box of poses, a certified upper bound of max f_k over the
 // box and every admissible geometry (+inf when it cannot bound it, e.g. a singular pose may lie in the box).
-// Certified lower bounds come from errorAtPose() at single poses.
+// Certified lower bounds come from errorAtPose() at single poses. The methods and their derivations:
+// docs/enclosures.md.
 #pragma once
 
 #include <array>

@@ -1,5 +1,9 @@
 // The increase of the worst error f_k over the nominal geometry, bounded separately from the nominal error
-// ("decomposed" geometry form, docs/uncertainty.md).
+// ("decomposed" geometry form, docs/uncertainty.md; key of symbols: docs/enclosures.md).
+//
+// Contract: prepare() once per box (from the nominal PreconditionedInverseEnclosure and its forms of J0 = N C); where
+// it is Ready, bound(), rowBound(), centreIncrease(), entryIncrease() and signs() hold for that box and every geometry
+// of the model's geometry box until the next prepare(). Every bound but centreIncrease() is rigorous.
 //
 // With J0 = J(t, g0) (nominal geometry g0, the centre of the geometry box), J = J(t, g) and Delta J = J - J0: where
 // J_kj keeps a sign s_j over the pose box Q and every geometry, e_j |J_kj| = e_j |J0_kj| + s_j e_j Delta J_kj, and
@@ -127,6 +131,45 @@ class GeometryIncrement {
   const SignPattern& signs() const { return signs_; }
 
  private:
+  // The steps of prepare(), in this order.
+  /// kappa_i = dev_i / a_i relating the nominal forms' pose symbols to the model's (tau'_i = kappa_i tau_i).
+  /// @return false unless the box variables are the pose coordinates centred at the box midpoint.
+  bool poseScales(const BoxInput& box, double* kappa) const;
+  /// The model's affine geometry derivatives over the box (into derivatives_), the sensor errors and the half-widths
+  /// h_p. @return false unless every entry has an affine form.
+  bool loadDerivatives(const model::RobotModel& model, const BoxInput& box);
+  /// dbar_e's affine forms (dC_, dA_, dR_, dSlope_, dDev_) and parameter terms (dK_, dDevK_) from derivatives_.
+  void storeDerivativeForms(const double* kappa);
+  /// dS_ >= |dbar_e^T S| (S the pose part of the nominal expansion's E). @return false if act's sizes do not fit.
+  bool boundDerivativesTimesPosePart(const PreconditionedInverseEnclosure& act);
+  /// A (a_, not yet rounded up) and the centres and deviations of the dot products dbar_e . J0_{.,j}.
+  void boundCouplings(const PreconditionedInverseEnclosure::AffineMatrix& j0, double (*dotCentre)[kMaxDof],
+                      double (*dotDev)[kMaxDof]);
+  /// phi()'s tables (rowEntries_, rowEntry_, phiD_, phiP_) from those dot products.
+  void buildPhiTables(const double (*dotCentre)[kMaxDof], const double (*dotDev)[kMaxDof]);
+  /// DJ >= |Delta J| (dj_) through the verified fixed point Y of |Y| <= A + A |Y|. @return false if it fails.
+  bool boundJacobianIncrease();
+  /// signs_ from |J0_kj| > DJ_kj.
+  void certifySigns();
+
+  // The steps of bound().
+  /// b_p = sum over p's entries e of J0_{k,row(e)} (dbar_e . w) for every parameter p, as sums of affine forms in the
+  /// pose symbols: centre bc, coefficients ba, radius terms br (>= 0) and the magnitudes berr their rounding is
+  /// relative to.
+  struct ParameterForms {
+    double bc[kMaxGeometryParameters], ba[kMaxDof][kMaxGeometryParameters], br[kMaxGeometryParameters];
+    double berr[kMaxGeometryParameters];
+  };
+  /// The b_p of column w for row k; rowB0 += the terms of B0 (not rounded up), cross += the products gamma_p
+  /// gamma'_s bounded in magnitude.
+  void parameterForms(int k, const Form* w, const SeparablePart& part, ParameterForms& b, DMat& rowB0,
+                      double& cross) const;
+  /// The first-order part of out (linear, fixed, straddle, coefficient) from the secants of h_p |b_p|, with the
+  /// secants' offsets summed into `constant` and sum_p h_p |b_p|'s bound into `magnitude`.
+  void firstOrderBound(const ParameterForms& b, Row& out, double& constant, double& magnitude) const;
+  /// sum_i |J0_ki| phi_i(B) (rounded up), B the fixed point rowB of B <= B0 + A B tightened through phi.
+  double secondOrderSum(int k, const DMat& rowB0, const DMat& rowB) const;
+
   /// out[e] >= dbar_e . w for every entry e (w: n forms in the same pose symbols).
   void dots(const Form* w, Form* out) const;
   /// out[e] >= sum_s |kappa_s . w| / 2 over the box for every entry e (the parameter terms of dbar_e . w, every
@@ -171,6 +214,8 @@ class GeometryIncrement {
   double dj_[kMaxDof][kMaxDof];  ///< DJ >= |Delta J|
   DMat aMat_, aApprox_;          ///< A and ~(I - A)^-1 (for the fixed points)
   SignPattern signs_;
+  /// prepare()'s scratch: the model's geometry derivatives over the box (kept with its capacity, box after box).
+  GeometryDerivatives derivatives_;
 };
 
 }  // namespace enclosure

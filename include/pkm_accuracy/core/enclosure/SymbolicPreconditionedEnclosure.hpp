@@ -8,6 +8,8 @@
 // then N' = (C M')^-1 by interval Gauss elimination and f_k = sum_j |(N' C)_kj| L_j e_j with L_j enclosing the
 // leg lengths. C is the inverse of M' at the box centre. Models other than the Gough platform fall back to
 // "precond".
+// Contract: enclose() fills out.upper / out.lower (certified, +inf / 0 where M' or C M' cannot be inverted), no
+// hints. Derivation and symbols: docs/enclosures.md.
 #pragma once
 
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
