@@ -132,9 +132,7 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
   } else {
     o.geometry_splitting = verify::GeometrySplitting::Auto;
   }
-  o.tuning.stall_levels = q.stall_levels;
   if (q.domain == QueryDomain::Workspace) o.max_recorded_safe_boxes = q.record_safe_boxes;
-  o.tuning.decompose_geometry = q.geometry_form == "decomposed";
   o.cancel = hooks.cancel;
   o.progress = hooks.progress;
   o.progress_period_s = hooks.progress_period_s;

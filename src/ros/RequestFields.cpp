@@ -114,25 +114,6 @@ bool geometrySplitting(const std::string& requested, std::string& out, std::stri
   return false;
 }
 
-bool geometryForm(const std::string& requested, std::string& out, std::string& error) {
-  if (requested.empty() || requested == "combined" || requested == "decomposed") {
-    out = requested.empty() ? "decomposed" : requested;
-    return true;
-  }
-  error = "geometry_form: expected \"decomposed\", \"combined\" or \"\" (decomposed), got \"" + requested + "\"";
-  return false;
-}
-
-bool stallLevels(std::int32_t requested, int& out, std::string& error) {
-  if (requested >= 0 && requested <= kMaxStallLevels) {
-    out = static_cast<int>(requested);
-    return true;
-  }
-  error = "stall_levels: expected 0 (half the number of box variables, at least 2) to " +
-          std::to_string(kMaxStallLevels) + ", got " + std::to_string(requested);
-  return false;
-}
-
 }  // namespace fields
 }  // namespace ros_layer
 }  // namespace pkm_accuracy

@@ -55,12 +55,6 @@ bool method(const std::string& requested, const std::string& dflt, std::string& 
 /// `geometry_splitting`: "" (= "auto"), "auto", "never" or "always"; `out` gets the name ("" becomes "auto").
 bool geometrySplitting(const std::string& requested, std::string& out, std::string& error);
 
-/// `geometry_form`: "" (= "decomposed"), "decomposed" or "combined"; `out` gets the name ("" becomes "decomposed").
-bool geometryForm(const std::string& requested, std::string& out, std::string& error);
-/// `stall_levels`: 0 (half the number of box variables, at least 2) to kMaxStallLevels.
-bool stallLevels(std::int32_t requested, int& out, std::string& error);
-constexpr std::int32_t kMaxStallLevels = 1000;
-
 /// `thresholds`: six numbers > 0 (m, m, m, rad, rad, rad; +inf allowed); in max_error mode all six may be 0
 /// ("none given", then `given` is false).
 template <class Array>
@@ -103,8 +97,7 @@ inline bool mode(const std::string& requested, QueryMode& out, std::string& erro
 }
 
 /// The options every request (and goal) shares, after `mode`: thresholds, alpha,
-/// time_budget, threads, method, geometry_splitting, stall_levels, geometry_form (min_width differs in unit: the
-/// caller reads it).
+/// time_budget, threads, method, geometry_splitting (min_width differs in unit: the caller reads it).
 /// @return false with `error` naming the field.
 template <class Request>
 bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQuery& q, std::string& error) {
@@ -117,13 +110,11 @@ bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQ
   if (!threads(req.threads, error)) return false;
   q.threads = req.threads;
   if (!method(req.method, defaults.method, q.method, error)) return false;
-  return geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) &&
-         stallLevels(req.stall_levels, q.stall_levels, error) &&
-         geometryForm(req.geometry_form, q.geometry_form, error);
+  return geometrySplitting(req.geometry_splitting, q.geometry_splitting, error);
 }
 
 /// Copies the options every request and action goal has (thresholds, mode, alpha, time_budget, min_width, threads,
-/// method, frame_id, geometry_splitting, stall_levels, geometry_form) from `from` to `to`, field for field.
+/// method, frame_id, geometry_splitting) from `from` to `to`, field for field.
 template <class From, class To>
 void copyOptions(const From& from, To& to) {
   to.thresholds = from.thresholds;
@@ -135,8 +126,6 @@ void copyOptions(const From& from, To& to) {
   to.method = from.method;
   to.frame_id = from.frame_id;
   to.geometry_splitting = from.geometry_splitting;
-  to.stall_levels = from.stall_levels;
-  to.geometry_form = from.geometry_form;
 }
 
 /// The fields that every response, action result and the ~verdict message share, from a

@@ -337,8 +337,6 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.min_width = q.min_width;
   msg.threads_requested = q.threads;
   msg.geometry_splitting = q.geometry_splitting;
-  msg.stall_levels = q.stall_levels;
-  msg.geometry_form = q.geometry_form;
 
   fields::fillCommonResponse(o, msg);
   for (std::size_t k = 0; k < 6; ++k) {

@@ -44,7 +44,8 @@ std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query);
 /// The verifier options of a query: mode, thresholds (a threshold of +inf, "do not check", becomes the largest
 /// finite double: every bounded error passes it, an unbounded one does not), alpha (relative), time limit, min width
 /// (the same for the 6 variables; 0 = the verifier's choice), threads, method ("" = the verifier's default), geometry
-/// splitting ("never", "always", anything else: auto) and stall levels, hooks.
+/// splitting ("never", "always", anything else: auto), hooks. The search's internal knobs (verify::SearchTuning) stay
+/// at their defaults.
 verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& query, const JobHooks& hooks = JobHooks());
 
 /// The outcome of a finished run (success = true). `model` is used only to evaluate the error at a max_error

@@ -96,12 +96,8 @@ struct WorkspaceQuery {
   double min_width = 0.0;    ///< m / rad, s or parameter units (see QueryDomain), >= 0 (0: the verifier chooses)
   unsigned threads = 0;      ///< 0 = all hardware threads
   std::string method;        ///< enclosure method name; "": the verifier's default
-  /// Geometric uncertainty (robots with anchor uncertainty): "auto", "never" or "always" (verify::GeometrySplitting)
-  /// and the stall levels of "auto" (0 = half the number of box variables, at least 2).
+  /// Geometric uncertainty (robots with anchor uncertainty): "auto", "never" or "always" (verify::GeometrySplitting).
   std::string geometry_splitting = "auto";
-  int stall_levels = 0;
-  /// How the anchor uncertainty is bounded: "combined" or "decomposed" (verify::VerifierOptions::decompose_geometry).
-  std::string geometry_form = "decomposed";
   /// Frame of the workspace and of every pose of the outcome; "" = the robot's base frame. For another frame the
   /// node fills the transform below from tf2 (has_transform) before the core runs.
   std::string frame_id;
