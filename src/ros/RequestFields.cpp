@@ -105,6 +105,21 @@ bool method(const std::string& requested, const std::string& dflt, std::string& 
   return false;
 }
 
+std::string errorNames(const std::vector<model::PoseComponent>& pose) {
+  std::string names;
+  for (const model::PoseComponent& c : pose) names += (names.empty() ? "" : ", ") + c.errorName();
+  return names;
+}
+
+std::string rigidBodyOnly(const QueryDefaults& defaults, const char* service) {
+  if (defaults.rigidBodyPose()) return "";
+  std::string pose;
+  for (const model::PoseComponent& c : defaults.pose) pose += (pose.empty() ? "" : ", ") + c.name;
+  return std::string(service) + ": the loaded robot, type " + defaults.robot_type + ", has the pose (" + pose +
+         "), not the rigid-body pose (x, y, z, roll, pitch, yaw) that " + service +
+         " needs; verify its workspaces with verify_workspace (named or pose_min / pose_max)";
+}
+
 bool geometrySplitting(const std::string& requested, std::string& out, std::string& error) {
   if (requested.empty() || requested == "auto" || requested == "never" || requested == "always") {
     out = requested.empty() ? "auto" : requested;
