@@ -98,6 +98,7 @@ Jet2<T, N> sqr(const Jet2<T, N>& x) {
 template <typename T, int N>
 Jet2<T, N> sqrt(const Jet2<T, N>& x) {
   const T s = kin::sqrt(x.value());
+  if (x.order() == 0) return Jet2<T, N>(s);
   const T inv = T(1.0) / (s * 2.0);
   std::array<T, N> g;
   for (int i = 0; i < N; ++i) g[i] = x.d(i) * inv;
@@ -119,6 +120,7 @@ template <typename T, int N>
 Jet2<T, N> atan2(const Jet2<T, N>& y, const Jet2<T, N>& x) {
   const T& xv = x.value();
   const T& yv = y.value();
+  if (x.order() == 0 && y.order() == 0) return Jet2<T, N>(kin::atan2(yv, xv));
   const T r2 = kin::sqr(xv) + kin::sqr(yv);
   std::array<T, N> g;
   for (int i = 0; i < N; ++i) g[i] = (xv * y.d(i) - yv * x.d(i)) / r2;
