@@ -115,6 +115,8 @@ TEST(Action, GoalAndResultAreTheServicesRequestAndResponse) {
   r.method = "precond";
   r.frame_id = "somewhere";
   r.geometry_splitting = "always";
+  r.pose_min = {14.5, 15.5};
+  r.pose_max = {16.5};
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
   const pkm_accuracy::ros_layer::WorkspaceOutcome o = filledOutcome();

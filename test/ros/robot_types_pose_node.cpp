@@ -1,8 +1,10 @@
-// rostest (robot_types_delta3.test, robot_types_prs3.test): the node started on a robot whose pose is not the
-// rigid-body pose (x, y, z, roll, pitch, yaw) -- a delta3 (pose x, y, z) or a prs3 (pose z, tilt_x, tilt_y) -- with its
+// rostest (robot_types_delta3.test, robot_types_prs3.test, robot_types_planar3rpr.test): the node started on a robot
+// whose pose is not the rigid-body pose (x, y, z, roll, pitch, yaw) -- a delta3 (pose x, y, z), a prs3 (pose z, tilt_x,
+// tilt_y) or a planar3rpr (pose x, y, theta, with a disc workspace too) -- with its
 // robot file (private parameter ~robot_file of this test) loaded as the node's parameters. The oracle is the core
 // reading the same file (io::loadModelFile, independent of the parameter server) and run directly:
-// - ~describe gives the file's type, dof, pose and error components, joints and sensor errors;
+// - ~describe gives the file's type, dof, pose and error components, joints, sensor errors and workspaces;
+// - max_error over every named workspace: the node's bracket overlaps the core's;
 // - max_error over the named workspace `reference`: the node's bracket and the core's are certified brackets of the
 //   same maxima (they overlap, each within alpha); the 6-number vectors hold the n components, then zeros;
 // - verify with thresholds 1.05 x the node's upper bounds: SAFE, and 0.95 x its lower bounds: UNSAFE, as the core
@@ -105,7 +107,30 @@ TEST(RobotTypesPose, DescribeGivesTheRobotsOwnCoordinates) {
     EXPECT_EQ(r.sensor_error[k], d.sensor_error[k]);
   }
   EXPECT_TRUE(r.base_anchors.empty());
-  EXPECT_EQ(r.workspaces, std::vector<std::string>{"reference"});
+  std::vector<std::string> names;
+  for (const auto& w : file().workspaces) names.push_back(w.first);  // (a std::map: sorted)
+  EXPECT_EQ(r.workspaces, names);
+}
+
+TEST(RobotTypesPose, EveryNamedWorkspaceIsTheFilesOne) {
+  // max_error over each named workspace of the file (planar3rpr: also its disc): the node's and the core's brackets
+  // of the same maxima overlap.
+  for (const auto& [name, domain] : file().workspaces) {
+    verify::VerifierOptions o;
+    o.mode = verify::Mode::MaxError;
+    o.alpha = kAlpha;
+    o.threads = 1;
+    const verify::VerifierResult core = verify::Verifier::run(*file().model, *domain, o);
+    VerifyWorkspace::Request req = maxErrorRequest();
+    req.workspace = name;
+    const VerifyWorkspace::Response r = call(req);
+    ASSERT_TRUE(r.success) << name << ": " << r.message;
+    EXPECT_EQ(r.converged, core.converged) << name;
+    for (std::size_t k = 0; k < dof(); ++k) {
+      EXPECT_LE(r.lower_bound[k], core.max_upper[static_cast<int>(k)]) << name << ", " << k;
+      EXPECT_LE(core.max_lower[static_cast<int>(k)], r.upper_bound[k]) << name << ", " << k;
+    }
+  }
 }
 
 TEST(RobotTypesPose, MaxErrorAndVerdictsAgreeWithTheCore) {
