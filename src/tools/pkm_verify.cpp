@@ -47,8 +47,6 @@ enum ExitCode : int { kSafe = 0, kUnsafe = 1, kUndecided = 2, kBadInput = 3, kIn
 const char* const kComponents[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
 const char* const kUnits[6] = {"m", "m", "m", "rad", "rad", "rad"};
 const char* const kVariables[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
-/// --stall-levels: more levels than this would never switch in practice (boxes are 2^-levels of their parent).
-constexpr long long kMaxStallLevels = 1000;
 
 std::string methodList() {
   std::string list;
@@ -56,20 +54,15 @@ std::string methodList() {
   return list;
 }
 
-/// The value of an on|off option (throws through badArgument() otherwise).
-bool onOff(const std::string& arg, const std::string& value) {
-  if (value != "on" && value != "off") badArgument(arg, "expected on or off, got '" + value + "'");
-  return value == "on";
-}
+// ---- usage ---------------------------------------------------------------------------------------------------------
+// --help: one function per section of the text (each is the text of its section and nothing else).
 
-void usage(std::ostream& os) {
+void usageSynopsis(std::ostream& os) {
   os << "Usage: pkm_verify --robot FILE [--workspace NAME|FILE | --trajectory FILE]\n"
         "                  [--thresholds dx,dy,dz,drx,dry,drz] [--mode verify|max_error] [--alpha A]\n"
         "                  [--uncertainty H] [--method NAME] [--threads N]\n"
         "                  [--time-limit S] [--max-boxes N] [--min-width w1,..,w6]\n"
-        "                  [--bisection smear|width|round-robin] [--geometry-splitting auto|never|always]\n"
-        "                  [--stall-levels N] [--faces on|off] [--skip-hopeless on|off]\n"
-        "                  [--geometry-form combined|decomposed] [--json OUT] [--yaml OUT]\n"
+        "                  [--geometry-splitting auto|never|always] [--json OUT] [--yaml OUT]\n"
         "                  [--self-check] [--quiet] [--progress]\n"
         "       pkm_verify --robot FILE --list-workspaces\n"
         "       pkm_verify --robot FILE --at v1,v2,...\n"
@@ -78,8 +71,11 @@ void usage(std::ostream& os) {
         "\n"
         "Certifies the worst-case positioning error of a parallel robot over a workspace (interval analysis and\n"
         "branch-and-bound; no ROS). Units: m and rad. Options also accept the form --name=value.\n"
-        "\n"
-        "Input:\n"
+        "\n";
+}
+
+void usageInput(std::ostream& os) {
+  os << "Input:\n"
         "  --robot FILE           robot file (required): a Gough platform as config/ref6.yaml, or any registered\n"
         "                         type named by its `type:` key (gough, planar3rpr, delta3, rus6, prs3, or a\n"
         "                         plugin's; docs/models.md); the lists of values per pose coordinate or error\n"
@@ -105,41 +101,32 @@ void usage(std::ostream& os) {
         "  --uncertainty H        half-width (m, >= 0) of every anchor coordinate (other types: of every geometry\n"
         "                         value in m); overrides the file's\n"
         "                         anchor half-widths (anchor_uncertainty, base_anchor_uncertainty,\n"
-        "                         platform_anchor_uncertainty; its tool_point_uncertainty is kept)\n"
-        "Problem:\n"
+        "                         platform_anchor_uncertainty; its tool_point_uncertainty is kept)\n";
+}
+
+void usageProblem(std::ostream& os) {
+  os << "Problem:\n"
         "  --mode MODE            verify (default): SAFE / UNSAFE / UNDECIDED against the thresholds;\n"
         "                         max_error (also written max-error): certified bracket [lower, upper] of the\n"
         "                         maximal error of every component\n"
         "  --thresholds LIST      6 comma-separated finite numbers > 0: dx,dy,dz (m), drx,dry,drz (rad); required\n"
         "                         in verify mode, optional in max_error mode (then the verdict compares the bracket)\n"
-        "  --alpha A              max_error: stop when upper - lower <= A * lower for every component (default 0.01)\n"
-        "Algorithm:\n"
+        "  --alpha A              max_error: stop when upper - lower <= A * lower for every component (default 0.01)\n";
+}
+
+void usageAlgorithm(std::ostream& os) {
+  os << "Algorithm:\n"
         "  --method NAME          enclosure method: "
      << methodList()
      << " (default: the first)\n"
-        "  --bisection RULE       smear (default), width, round-robin\n"
         "  --min-width LIST       6 numbers >= 0: boxes narrower than this in every variable are not split (m, m, m,\n"
         "                         rad, rad, rad; default 1e-5 of the workspace's width); with --trajectory one\n"
         "                         number per parameter (u in [0, 1]; u, v, ... for a variety)\n"
-        "  --skip-hopeless on|off split the halves of a box again at once, without enclosing them, when the box's\n"
-        "                         bound minus the split variable's whole share in it is still above 1.1 x the\n"
-        "                         target (default on; domains of 3 or more variables; only the search order\n"
-        "                         changes)\n"
-        "  --geometry-form F      with anchor uncertainty: decomposed (default: the nominal error plus a separate\n"
-        "                         bound of its increase over the geometry, on every path, geometry halves included;\n"
-        "                         the combined form on the faces) or combined (one expansion in the pose and the\n"
-        "                         geometry together everywhere); both rigorous\n"
         "  --threads N            worker threads (default 0: all hardware threads)\n"
         "  --geometry-splitting M with anchor uncertainty: auto (default: a box whose bound stops improving under\n"
-        "                         bisection switches from uncertainty as interval coefficients and first-order terms\n"
-        "                         to bisecting the geometry parameters), never (never bisect the geometry), always\n"
-        "                         (the geometry parameters compete with the box variables for every split)\n"
-        "  --stall-levels N       auto: bisection levels without halving the excess before a box switches to\n"
-        "                         the faces, then the geometry (integer 0 to 1000; default 0: half the number of\n"
-        "                         box variables, at least 2)\n"
-        "  --faces on|off         with anchor uncertainty: a stalled box (or one at the precision limit) first\n"
-        "                         bounds each component on the face of the geometry box where it is certified\n"
-        "                         monotone, before bisecting the geometry (default on)\n"
+        "                         bisection switches to the faces of the geometry box, then to bisecting the\n"
+        "                         geometry parameters), never (never bisect the geometry), always (the geometry\n"
+        "                         parameters compete with the box variables for every split)\n"
         "  --time-limit S         stop after S seconds of wall time (default 0: no limit)\n"
         "  --max-boxes N          stop after N boxes (default 0: no limit)\n"
         "  --self-check           check the enclosures while the run goes on: for every box enclosed, 4 points of\n"
@@ -148,8 +135,11 @@ void usage(std::ostream& os) {
         "                         a value outside the box's certified bounds beyond round-off (relative 1e-9 plus\n"
         "                         1e-14 x the condition number of J^-1) stops the run with exit code 4 and a\n"
         "                         message naming the enclosure method, the box and the point (a defect of this\n"
-        "                         program). The summary and stats.self_check_points count the points checked\n"
-        "Output:\n"
+        "                         program). The summary and stats.self_check_points count the points checked\n";
+}
+
+void usageOutput(std::ostream& os) {
+  os << "Output:\n"
         "  --json OUT             write the result as JSON to OUT ('-': standard output; the summary then goes\n"
         "                         to stderr)\n"
         "  --yaml OUT             write the result as YAML to OUT ('-': standard output)\n"
@@ -160,8 +150,11 @@ void usage(std::ostream& os) {
         "  --version              print the version and exit\n"
         "\n"
         "Ctrl-C stops the run: the result is UNDECIDED (cancelled) and the reports are still written.\n"
-        "\n"
-        "Exit codes:\n"
+        "\n";
+}
+
+void usageExitCodes(std::ostream& os) {
+  os << "Exit codes:\n"
         "  0  SAFE: every pose of the workspace is certified within every threshold\n"
         "     (max_error mode without thresholds: the bracket converged to alpha)\n"
         "  1  UNSAFE: a certified witness pose exceeds a threshold\n"
@@ -178,6 +171,15 @@ void usage(std::ostream& os) {
         "             --thresholds 1e-4,1e-4,1e-4,1e-3,1e-3,1e-3 --json result.json\n";
 }
 
+void usage(std::ostream& os) {
+  usageSynopsis(os);
+  usageInput(os);
+  usageProblem(os);
+  usageAlgorithm(os);
+  usageOutput(os);
+  usageExitCodes(os);
+}
+
 // ---- arguments -----------------------------------------------------------------------------------------------------
 struct Arguments {
   bool help = false;
@@ -192,7 +194,7 @@ struct Arguments {
   std::string type = "gough";                  // the robot file's type
   std::vector<std::string> plugins;            // --plugin
   std::optional<std::string> at_text;          // --at, parsed once the robot is known
-  std::optional<std::string> thresholds_text;  // non-gough types: parsed once the robot is known
+  std::optional<std::string> thresholds_text;  // --thresholds, parsed once the robot's type is known
   std::optional<double> uncertainty;
   std::string json, yaml;
   verify::VerifierOptions options;
@@ -265,158 +267,163 @@ std::string robotType(const std::string& path) {
   return type;
 }
 
-Arguments parseArguments(int argc, char** argv) {
-  Arguments a;
-  bool haveThresholds = false;
-  std::string thresholdsText;
-  // Options that take a value.
-  static const std::vector<std::string> withValue = {
-      "--robot",        "--workspace",   "--thresholds",    "--mode",
-      "--alpha",        "--uncertainty", "--method",        "--threads",
-      "--time-limit",   "--json",        "--yaml",          "--max-boxes",
-      "--min-width",    "--bisection",   "--trajectory",    "--geometry-splitting",
-      "--stall-levels", "--faces",       "--skip-hopeless", "--geometry-form",
-      "--plugin",       "--at"};
-  static const std::vector<std::string> flags = {"--help",  "-h", "--version",  "--list-workspaces", "--list-types",
-                                                 "--quiet", "-q", "--progress", "--self-check"};
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    std::string value;
-    bool inlineValue = false;
-    if (arg.rfind("--", 0) == 0) {
-      const auto eq = arg.find('=');
-      if (eq != std::string::npos) {
-        value = arg.substr(eq + 1);
-        arg = arg.substr(0, eq);
-        inlineValue = true;
-      }
-    }
-    const bool takesValue = std::find(withValue.begin(), withValue.end(), arg) != withValue.end();
-    const bool isFlag = std::find(flags.begin(), flags.end(), arg) != flags.end();
-    if (!takesValue && !isFlag) {
-      if (arg.empty() || arg[0] != '-') badArgument(arg, "unexpected argument (options start with --; see --help)");
-      badArgument(arg, "unknown option (see --help)");
-    }
-    if (isFlag && inlineValue) badArgument(arg, "takes no value");
-    if (takesValue && !inlineValue) {
-      if (i + 1 >= argc) badArgument(arg, "missing value");
-      value = argv[++i];
-    }
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-    } else if (arg == "--version") {
-      a.version = true;
-    } else if (arg == "--list-workspaces") {
-      a.list_workspaces = true;
-    } else if (arg == "--list-types") {
-      a.list_types = true;
-    } else if (arg == "--plugin") {
-      if (value.empty()) badArgument(arg, "expected a shared library file, got an empty value");
-      a.plugins.push_back(value);
-    } else if (arg == "--at") {
-      a.at_text = value;
-    } else if (arg == "--quiet" || arg == "-q") {
-      a.quiet = true;
-    } else if (arg == "--progress") {
-      a.progress = true;
-    } else if (arg == "--self-check") {
-      a.options.self_check = true;
-    } else if (arg == "--robot") {
-      if (value.empty()) badArgument(arg, "expected a file name, got an empty value");
-      a.robot = value;
-    } else if (arg == "--workspace") {
-      if (value.empty()) badArgument(arg, "expected a workspace name or file, got an empty value");
-      a.workspace = value;
-    } else if (arg == "--trajectory") {
-      if (value.empty()) badArgument(arg, "expected a trajectory file, got an empty value");
-      a.trajectory = value;
-    } else if (arg == "--thresholds") {
-      haveThresholds = true;
-      thresholdsText = value;
-    } else if (arg == "--mode") {
-      if (value == "verify") {
-        a.options.mode = verify::Mode::Verify;
-      } else if (value == "max_error" || value == "max-error") {
-        a.options.mode = verify::Mode::MaxError;
-      } else {
-        badArgument(arg, "expected verify or max_error, got '" + value + "'");
-      }
-    } else if (arg == "--alpha") {
-      a.options.alpha = tools::parseBounded(arg, value, 0.0, true);
-    } else if (arg == "--uncertainty") {
-      a.uncertainty = tools::parseBounded(arg, value, 0.0, false, "m");
-    } else if (arg == "--method") {
-      const auto names = enclosure::enclosureNames();
-      if (std::find(names.begin(), names.end(), value) == names.end()) {
-        badArgument(arg, "unknown method '" + value + "' (expected one of " + methodList() + ")");
-      }
-      a.options.method = value;
-    } else if (arg == "--threads") {
-      a.options.threads = static_cast<int>(tools::parseCount(arg, value, 4096));
-    } else if (arg == "--time-limit") {
-      a.options.time_limit_s = tools::parseBounded(arg, value, 0.0, false, "s");
-    } else if (arg == "--max-boxes") {
-      a.options.max_boxes = static_cast<std::size_t>(tools::parseCount(arg, value));
-    } else if (arg == "--min-width") {
-      a.min_width_text = value;
-    } else if (arg == "--bisection") {
-      if (value == "smear") {
-        a.options.tuning.bisection = verify::Bisection::Smear;
-      } else if (value == "width") {
-        a.options.tuning.bisection = verify::Bisection::LargestScaledWidth;
-      } else if (value == "round-robin" || value == "round_robin") {
-        a.options.tuning.bisection = verify::Bisection::RoundRobin;
-      } else {
-        badArgument(arg, "expected smear, width or round-robin, got '" + value + "'");
-      }
-    } else if (arg == "--geometry-splitting") {
-      if (value == "auto") {
-        a.options.geometry_splitting = verify::GeometrySplitting::Auto;
-      } else if (value == "never") {
-        a.options.geometry_splitting = verify::GeometrySplitting::Never;
-      } else if (value == "always") {
-        a.options.geometry_splitting = verify::GeometrySplitting::Always;
-      } else {
-        badArgument(arg, "expected auto, never or always, got '" + value + "'");
-      }
-    } else if (arg == "--faces") {
-      a.options.tuning.faces = onOff(arg, value);
-    } else if (arg == "--skip-hopeless") {
-      a.options.tuning.skip_hopeless = onOff(arg, value);
-    } else if (arg == "--geometry-form") {
-      if (value == "combined") {
-        a.options.tuning.decompose_geometry = false;
-      } else if (value == "decomposed") {
-        a.options.tuning.decompose_geometry = true;
-      } else {
-        badArgument(arg, "expected combined or decomposed, got '" + value + "'");
-      }
-    } else if (arg == "--stall-levels") {
-      a.options.tuning.stall_levels = static_cast<int>(tools::parseCount(arg, value, kMaxStallLevels));
-    } else if (arg == "--json") {
-      if (value.empty()) badArgument(arg, "expected a file name or -, got an empty value");
-      a.json = value;
-    } else if (arg == "--yaml") {
-      if (value.empty()) badArgument(arg, "expected a file name or -, got an empty value");
-      a.yaml = value;
+/// One command-line option and its value ("" for a flag).
+struct Option {
+  std::string name;
+  std::string value;
+};
+
+/// Options that take a value (as the next argument or as --name=value).
+const std::vector<std::string> kOptionsWithValue = {
+    "--robot",     "--workspace",  "--thresholds",         "--mode",   "--alpha", "--uncertainty",
+    "--method",    "--threads",    "--time-limit",         "--json",   "--yaml",  "--max-boxes",
+    "--min-width", "--trajectory", "--geometry-splitting", "--plugin", "--at"};
+/// Options that take no value.
+const std::vector<std::string> kFlags = {"--help",  "-h", "--version",  "--list-workspaces", "--list-types",
+                                         "--quiet", "-q", "--progress", "--self-check"};
+
+bool isOneOf(const std::string& name, const std::vector<std::string>& names) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+/// The option at argv[i] with its value (argv[i + 1] unless given as --name=value; i then moves past it). Refuses
+/// unknown options, values given to flags and missing values.
+Option nextOption(int argc, char** argv, int& i) {
+  Option o{argv[i], ""};
+  bool inlineValue = false;
+  if (o.name.rfind("--", 0) == 0) {
+    const auto eq = o.name.find('=');
+    if (eq != std::string::npos) {
+      o.value = o.name.substr(eq + 1);
+      o.name = o.name.substr(0, eq);
+      inlineValue = true;
     }
   }
-  if (a.help || a.version) return a;
-  loadPlugins(a.plugins);
-  if (a.list_types) return a;
-  if (a.robot.empty()) badArgument("--robot", "required (the robot file, e.g. config/ref6.yaml; see --help)");
-  a.type = robotType(a.robot);
-  if (a.type != "gough") {
-    // Values per pose coordinate / error component are parsed once the robot (its dof and names) is known.
-    if (haveThresholds) a.thresholds_text = thresholdsText;
-    if (!a.trajectory.empty()) {
-      badArgument("--trajectory", "trajectories and motion varieties are verified for gough robots; " + a.robot +
-                                      " is a " + a.type + " (verify a workspace of it instead)");
+  const bool takesValue = isOneOf(o.name, kOptionsWithValue);
+  const bool isFlag = isOneOf(o.name, kFlags);
+  if (!takesValue && !isFlag) {
+    if (o.name.empty() || o.name[0] != '-') {
+      badArgument(o.name, "unexpected argument (options start with --; see --help)");
     }
-    if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
-    return a;
+    badArgument(o.name, "unknown option (see --help)");
   }
-  if (a.at_text) return a;
+  if (isFlag && inlineValue) badArgument(o.name, "takes no value");
+  if (takesValue && !inlineValue) {
+    if (i + 1 >= argc) badArgument(o.name, "missing value");
+    o.value = argv[++i];
+  }
+  return o;
+}
+
+/// A value that must not be empty (`what`: what is expected instead).
+std::string nonEmpty(const Option& o, const std::string& what) {
+  if (o.value.empty()) badArgument(o.name, "expected " + what + ", got an empty value");
+  return o.value;
+}
+
+/// The flags (options without a value). @return whether `o` is one.
+bool applyFlag(Arguments& a, const Option& o) {
+  if (o.name == "--help" || o.name == "-h") {
+    a.help = true;
+  } else if (o.name == "--version") {
+    a.version = true;
+  } else if (o.name == "--list-workspaces") {
+    a.list_workspaces = true;
+  } else if (o.name == "--list-types") {
+    a.list_types = true;
+  } else if (o.name == "--quiet" || o.name == "-q") {
+    a.quiet = true;
+  } else if (o.name == "--progress") {
+    a.progress = true;
+  } else if (o.name == "--self-check") {
+    a.options.self_check = true;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+/// What is verified: the robot, its types' plugins, the domain, the uncertainty, a single pose. @return whether `o`
+/// is one of these options.
+bool applyInputOption(Arguments& a, const Option& o) {
+  if (o.name == "--robot") {
+    a.robot = nonEmpty(o, "a file name");
+  } else if (o.name == "--plugin") {
+    a.plugins.push_back(nonEmpty(o, "a shared library file"));
+  } else if (o.name == "--at") {
+    a.at_text = o.value;
+  } else if (o.name == "--workspace") {
+    a.workspace = nonEmpty(o, "a workspace name or file");
+  } else if (o.name == "--trajectory") {
+    a.trajectory = nonEmpty(o, "a trajectory file");
+  } else if (o.name == "--uncertainty") {
+    a.uncertainty = tools::parseBounded(o.name, o.value, 0.0, false, "m");
+  } else {
+    return false;
+  }
+  return true;
+}
+
+verify::Mode parseMode(const Option& o) {
+  if (o.value == "verify") return verify::Mode::Verify;
+  if (o.value == "max_error" || o.value == "max-error") return verify::Mode::MaxError;
+  badArgument(o.name, "expected verify or max_error, got '" + o.value + "'");
+}
+
+verify::GeometrySplitting parseGeometrySplitting(const Option& o) {
+  if (o.value == "auto") return verify::GeometrySplitting::Auto;
+  if (o.value == "never") return verify::GeometrySplitting::Never;
+  if (o.value == "always") return verify::GeometrySplitting::Always;
+  badArgument(o.name, "expected auto, never or always, got '" + o.value + "'");
+}
+
+/// The question asked and how the search answers it: mode, thresholds, method, budgets, threads. @return whether
+/// `o` is one of these options.
+bool applyProblemOption(Arguments& a, const Option& o) {
+  verify::VerifierOptions& options = a.options;
+  if (o.name == "--thresholds") {
+    a.thresholds_text = o.value;
+  } else if (o.name == "--mode") {
+    options.mode = parseMode(o);
+  } else if (o.name == "--alpha") {
+    options.alpha = tools::parseBounded(o.name, o.value, 0.0, true);
+  } else if (o.name == "--method") {
+    const auto names = enclosure::enclosureNames();
+    if (!isOneOf(o.value, names)) {
+      badArgument(o.name, "unknown method '" + o.value + "' (expected one of " + methodList() + ")");
+    }
+    options.method = o.value;
+  } else if (o.name == "--threads") {
+    options.threads = static_cast<int>(tools::parseCount(o.name, o.value, 4096));
+  } else if (o.name == "--time-limit") {
+    options.time_limit_s = tools::parseBounded(o.name, o.value, 0.0, false, "s");
+  } else if (o.name == "--max-boxes") {
+    options.max_boxes = static_cast<std::size_t>(tools::parseCount(o.name, o.value));
+  } else if (o.name == "--min-width") {
+    a.min_width_text = o.value;
+  } else if (o.name == "--geometry-splitting") {
+    options.geometry_splitting = parseGeometrySplitting(o);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+/// The reports. @return whether `o` is one of their options.
+bool applyOutputOption(Arguments& a, const Option& o) {
+  if (o.name == "--json") {
+    a.json = nonEmpty(o, "a file name or -");
+  } else if (o.name == "--yaml") {
+    a.yaml = nonEmpty(o, "a file name or -");
+  } else {
+    return false;
+  }
+  return true;
+}
+
+/// The checks of the arguments of a gough robot, and its lists of six values (thresholds, min widths of a workspace).
+void finishGoughArguments(Arguments& a) {
+  if (a.at_text) return;
   if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
   if (!a.trajectory.empty() && !a.workspace.empty()) {
     badArgument("--trajectory", "cannot be combined with --workspace (a run verifies a workspace or a trajectory)");
@@ -425,15 +432,45 @@ Arguments parseArguments(int argc, char** argv) {
     a.min_width =
         parseSix("--min-width", *a.min_width_text, 0.0, false, kVariables, "x,y,z in m, roll,pitch,yaw in rad");
   }
-  if (haveThresholds) {
+  if (a.thresholds_text) {
     const auto t =
-        parseSix("--thresholds", thresholdsText, 0.0, true, kComponents, "dx,dy,dz in m, drx,dry,drz in rad");
+        parseSix("--thresholds", *a.thresholds_text, 0.0, true, kComponents, "dx,dy,dz in m, drx,dry,drz in rad");
     a.options.thresholds = DVec::Zero(6);
     for (int k = 0; k < 6; ++k) a.options.thresholds[k] = t[k];
   } else if (a.options.mode == verify::Mode::Verify && !a.list_workspaces) {
     badArgument("--thresholds",
                 "required in verify mode: 6 comma-separated values > 0, dx,dy,dz (m) and drx,dry,drz (rad), e.g. "
                 "--thresholds 1e-4,1e-4,1e-4,1e-3,1e-3,1e-3 (or use --mode max_error)");
+  }
+}
+
+/// The checks of the arguments of a robot of another type (its values per pose coordinate and error component are
+/// parsed once the robot, its dof and names, is known).
+void finishModelArguments(const Arguments& a) {
+  if (!a.trajectory.empty()) {
+    badArgument("--trajectory", "trajectories and motion varieties are verified for gough robots; " + a.robot +
+                                    " is a " + a.type + " (verify a workspace of it instead)");
+  }
+  if (a.json == "-" && a.yaml == "-") badArgument("--yaml", "only one of --json and --yaml may write to stdout (-)");
+}
+
+Arguments parseArguments(int argc, char** argv) {
+  Arguments a;
+  for (int i = 1; i < argc; ++i) {
+    const Option o = nextOption(argc, argv, i);
+    const bool applied =
+        applyFlag(a, o) || applyInputOption(a, o) || applyProblemOption(a, o) || applyOutputOption(a, o);
+    if (!applied) throw InternalError(o.name + ": an accepted option that no step applies");
+  }
+  if (a.help || a.version) return a;
+  loadPlugins(a.plugins);
+  if (a.list_types) return a;
+  if (a.robot.empty()) badArgument("--robot", "required (the robot file, e.g. config/ref6.yaml; see --help)");
+  a.type = robotType(a.robot);
+  if (a.type == "gough") {
+    finishGoughArguments(a);
+  } else {
+    finishModelArguments(a);
   }
   return a;
 }
@@ -805,51 +842,47 @@ std::shared_ptr<const domain::Domain> resolveModelWorkspace(const io::ModelFile&
                                  (names.empty() ? std::string("none") : names) + ") nor a readable workspace file");
 }
 
-int runModel(Arguments& a) {
-  io::ModelFile file = loadModel(a);
-  for (const std::string& key : file.unknown_keys) {
-    std::cerr << "pkm_verify: warning: --robot: " << a.robot << ": key '" << key << "' is not used (unknown key)\n";
-  }
-  if (a.uncertainty) {
-    model::RobotDescription d = file.description;
-    for (model::GeometryValue& g : d.geometry) {
-      if (g.unit != "m") continue;
-      g.lo = -*a.uncertainty;
-      g.hi = *a.uncertainty;
+/// --list-workspaces for a robot of another type.
+void listModelWorkspaces(const io::ModelFile& file, const std::string& path) {
+  std::cout << path << ": " << file.workspaces.size() << " workspace" << (file.workspaces.size() == 1 ? "" : "s")
+            << "\n";
+  for (const auto& kv : file.workspaces) {
+    std::cout << "  " << kv.first << ":";
+    const IVec& b = kv.second->initialBox();
+    for (int i = 0; i < b.size(); ++i) {
+      const std::string n = kv.second->variableName(i);
+      std::cout << " " << n.substr(0, n.find(' ')) << " [" << tools::shortNumber(b[i].lower()) << ", "
+                << tools::shortNumber(b[i].upper()) << "]";
     }
-    try {
-      file.model = model::ModelRegistry::global().find(file.type)->make(d);
-    } catch (const InvalidArgument& e) {
-      badArgument("--uncertainty", e.what());
-    }
-    file.description = d;
+    std::cout << "\n";
   }
-  const model::RobotModel& model = *file.model;
-  if (a.list_workspaces) {
-    std::cout << a.robot << ": " << file.workspaces.size() << " workspace" << (file.workspaces.size() == 1 ? "" : "s")
-              << "\n";
-    for (const auto& kv : file.workspaces) {
-      std::cout << "  " << kv.first << ":";
-      const IVec& b = kv.second->initialBox();
-      for (int i = 0; i < b.size(); ++i) {
-        const std::string n = kv.second->variableName(i);
-        std::cout << " " << n.substr(0, n.find(' ')) << " [" << tools::shortNumber(b[i].lower()) << ", "
-                  << tools::shortNumber(b[i].upper()) << "]";
-      }
-      std::cout << "\n";
-    }
-    return 0;
-  }
-  if (a.at_text) return printAt(model, a.robot, file.type, parsePose(*a.at_text, model, file.description));
+}
 
-  io::RunInfo info;
+/// --uncertainty for a robot of another type: every geometry value in m becomes +-h (the model is rebuilt).
+void applyModelUncertainty(io::ModelFile& file, double h) {
+  model::RobotDescription d = file.description;
+  for (model::GeometryValue& g : d.geometry) {
+    if (g.unit != "m") continue;
+    g.lo = -h;
+    g.hi = h;
+  }
+  try {
+    file.model = model::ModelRegistry::global().find(file.type)->make(d);
+  } catch (const InvalidArgument& e) {
+    badArgument("--uncertainty", e.what());
+  }
+  file.description = d;
+}
+
+/// The run info of a robot of another type over `target`: its components, units and geometry parameters.
+void describeModelRun(const io::ModelFile& file, const domain::Domain& target, const Arguments& a, io::RunInfo& info) {
+  const model::RobotModel& model = *file.model;
   info.version = pkm_accuracy::version();
   info.robot = a.robot;
   info.robot_type = file.type;
-  const std::shared_ptr<const domain::Domain> target = resolveModelWorkspace(file, a, info.workspace);
   info.workspace_region = "box";
-  info.workspace_box = target->initialBox();
-  for (int i = 0; i < target->variables(); ++i) info.variables.push_back(target->variableName(i));
+  info.workspace_box = target.initialBox();
+  for (int i = 0; i < target.variables(); ++i) info.variables.push_back(target.variableName(i));
   info.components.clear();
   info.units.clear();
   for (int k = 0; k < model.dof(); ++k) {
@@ -859,10 +892,14 @@ int runModel(Arguments& a) {
   for (int p = 0; p < model.geometryParameterCount(); ++p) {
     info.geometry_parameters.push_back(model.geometryParameterName(p));
     info.geometry_ranges.push_back(model.geometryParameterRange(p));
-    const Interval r = model.geometryParameterRange(p);
-    info.anchor_uncertainty = std::max(info.anchor_uncertainty, r.rad());
+    info.anchor_uncertainty = std::max(info.anchor_uncertainty, model.geometryParameterRange(p).rad());
   }
   info.uniform_uncertainty = false;
+}
+
+/// --thresholds and --min-width of a robot of another type: one value per error component / domain variable.
+void parseModelLists(Arguments& a, const model::RobotModel& model, const domain::Domain& target,
+                     const io::RunInfo& info) {
   if (a.thresholds_text) {
     const auto t = parseValues("--thresholds", *a.thresholds_text, info.components, info.units, 0.0, true);
     a.options.thresholds = DVec::Zero(model.dof());
@@ -875,34 +912,38 @@ int runModel(Arguments& a) {
   }
   if (a.min_width_text) {
     std::vector<std::string> names, units;
-    for (int i = 0; i < target->variables(); ++i) {
-      const std::string n = target->variableName(i);
+    for (int i = 0; i < target.variables(); ++i) {
+      const std::string n = target.variableName(i);
       names.push_back(n.substr(0, n.find(' ')));
       units.push_back(info.units[static_cast<std::size_t>(i)]);
     }
     a.min_width = parseValues("--min-width", *a.min_width_text, names, units, 0.0, false);
   }
+}
+
+/// A robot of another type than gough (model::ModelRegistry): workspaces of boxes of its pose coordinates.
+int runModel(Arguments& a) {
+  io::ModelFile file = loadModel(a);
+  for (const std::string& key : file.unknown_keys) {
+    std::cerr << "pkm_verify: warning: --robot: " << a.robot << ": key '" << key << "' is not used (unknown key)\n";
+  }
+  if (a.uncertainty) applyModelUncertainty(file, *a.uncertainty);
+  const model::RobotModel& model = *file.model;
+  if (a.list_workspaces) {
+    listModelWorkspaces(file, a.robot);
+    return 0;
+  }
+  if (a.at_text) return printAt(model, a.robot, file.type, parsePose(*a.at_text, model, file.description));
+
+  io::RunInfo info;
+  const std::shared_ptr<const domain::Domain> target = resolveModelWorkspace(file, a, info.workspace);
+  describeModelRun(file, *target, a, info);
+  parseModelLists(a, model, *target, info);
   return runAndReport(a, model, *target, info);
 }
 
-int run(int argc, char** argv) {
-  Arguments a = parseArguments(argc, argv);
-  if (a.help) {
-    usage(std::cout);
-    return 0;
-  }
-  if (a.version) {
-    std::cout << "pkm_verify " << pkm_accuracy::version() << "\n";
-    return 0;
-  }
-  if (a.list_types) {
-    for (const std::string& n : model::ModelRegistry::global().names()) {
-      std::cout << n << ": " << model::ModelRegistry::global().find(n)->summary << "\n";
-    }
-    return 0;
-  }
-  if (a.type != "gough") return runModel(a);
-
+/// The gough robot file (exit 3 naming the file on failure); warns of its unknown keys.
+io::RobotFile loadGoughRobot(const Arguments& a) {
   struct stat st;
   if (::stat(a.robot.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
     badArgument("--robot", a.robot + ": not a regular file");
@@ -919,38 +960,23 @@ int run(int argc, char** argv) {
   for (const std::string& key : robot.unknown_keys) {
     std::cerr << "pkm_verify: warning: --robot: " << a.robot << ": key '" << key << "' is not used (unknown key)\n";
   }
-  if (a.list_workspaces) {
-    listWorkspaces(robot, a.robot);
-    return 0;
-  }
-  if (a.uncertainty) {
-    robot.geometry.setUniformAnchorUncertainty(*a.uncertainty);
-    try {
-      robot.geometry.validate();
-    } catch (const InvalidArgument& e) {
-      badArgument("--uncertainty", e.what());
-    }
-  }
-  const model::GoughPlatform model(robot.geometry);
-  if (a.at_text) {
-    return printAt(model, a.robot, "gough", parsePose(*a.at_text, model, model::GoughKinematics::description()));
-  }
+  return robot;
+}
 
-  io::RunInfo info;
-  info.version = pkm_accuracy::version();
-  std::shared_ptr<const domain::Domain> domainPtr;
-  if (a.trajectory.empty()) {
-    std::optional<domain::RigidTransform> frame;
-    auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace, frame));
-    info.workspace_region = workspace->region().typeName();
-    domainPtr = workspace;
-    if (frame) {
-      // Given in a frame F: verified in the base frame; the variables stay the workspace's own (in F).
-      const auto framed = std::make_shared<domain::TransformedDomain>(workspace, *frame);
-      domainPtr = framed;
-      info.workspace += ", in " + framed->frameDescription();
-    }
-  } else {
+/// --uncertainty for a gough robot: every anchor coordinate +-h (the tool point's uncertainty is kept).
+void applyGoughUncertainty(io::RobotFile& robot, double h) {
+  robot.geometry.setUniformAnchorUncertainty(h);
+  try {
+    robot.geometry.validate();
+  } catch (const InvalidArgument& e) {
+    badArgument("--uncertainty", e.what());
+  }
+}
+
+/// What a gough run verifies: the workspace (in its frame, if it has one) or the trajectory / variety; fills the
+/// run info's description of it.
+std::shared_ptr<const domain::Domain> goughDomain(const io::RobotFile& robot, const Arguments& a, io::RunInfo& info) {
+  if (!a.trajectory.empty()) {
     const io::TrajectoryFile file = loadTrajectory(a.trajectory);
     info.domain = file.kind == io::TrajectoryFile::Kind::Variety ? "variety" : "trajectory";
     info.trajectory = a.trajectory;
@@ -960,8 +986,34 @@ int run(int argc, char** argv) {
       info.time_start = file.trajectory->startTime();
       info.time_end = file.trajectory->endTime();
     }
-    domainPtr = file.domain;
+    return file.domain;
   }
+  std::optional<domain::RigidTransform> frame;
+  auto workspace = std::make_shared<domain::Workspace>(resolveWorkspace(robot, a, info.workspace, frame));
+  info.workspace_region = workspace->region().typeName();
+  if (!frame) return workspace;
+  // Given in a frame F: verified in the base frame; the variables stay the workspace's own (in F).
+  const auto framed = std::make_shared<domain::TransformedDomain>(workspace, *frame);
+  info.workspace += ", in " + framed->frameDescription();
+  return framed;
+}
+
+/// A gough robot: workspaces (any region, in any frame), trajectories and motion varieties.
+int runGough(Arguments& a) {
+  io::RobotFile robot = loadGoughRobot(a);
+  if (a.list_workspaces) {
+    listWorkspaces(robot, a.robot);
+    return 0;
+  }
+  if (a.uncertainty) applyGoughUncertainty(robot, *a.uncertainty);
+  const model::GoughPlatform model(robot.geometry);
+  if (a.at_text) {
+    return printAt(model, a.robot, "gough", parsePose(*a.at_text, model, model::GoughKinematics::description()));
+  }
+
+  io::RunInfo info;
+  info.version = pkm_accuracy::version();
+  const std::shared_ptr<const domain::Domain> domainPtr = goughDomain(robot, a, info);
   const domain::Domain& target = *domainPtr;  // what is verified
   info.robot = a.robot;
   info.workspace_box = target.initialBox();
@@ -976,6 +1028,28 @@ int run(int argc, char** argv) {
 
   if (a.min_width_text && !a.trajectory.empty()) a.min_width = parseList("--min-width", *a.min_width_text, target);
   return runAndReport(a, model, target, info);
+}
+
+/// --help, --version, --list-types: what they print. @return whether one of them was given.
+bool printInformation(const Arguments& a) {
+  if (a.help) {
+    usage(std::cout);
+  } else if (a.version) {
+    std::cout << "pkm_verify " << pkm_accuracy::version() << "\n";
+  } else if (a.list_types) {
+    for (const std::string& n : model::ModelRegistry::global().names()) {
+      std::cout << n << ": " << model::ModelRegistry::global().find(n)->summary << "\n";
+    }
+  } else {
+    return false;
+  }
+  return true;
+}
+
+int run(int argc, char** argv) {
+  Arguments a = parseArguments(argc, argv);
+  if (printInformation(a)) return 0;
+  return a.type == "gough" ? runGough(a) : runModel(a);
 }
 
 /// One line: newlines of nested messages (e.g. YAML parser errors) become spaces.

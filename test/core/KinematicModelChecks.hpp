@@ -226,10 +226,12 @@ inline void checkPreconditionedHessian(const model::RobotModel& robot, const IVe
 
 /// geometryDerivatives over `box` contains central differences (in each uncertain geometry value, computed with the
 /// kinematics in double) of J^-1 at random poses of the box and random admissible geometries, and has an entry for
-/// every row a parameter moves (no entry: the differences must vanish).
+/// every row a parameter moves (no entry: the differences must vanish); so do the entries' affine forms in the pose
+/// (GeometryRowDerivative::affine; required unless `requireAffine` is false: near unreachable poses they may be
+/// unbounded).
 template <typename K>
-void checkGeometryDerivatives(const model::KinematicModel<K>& robot, const IVec& box, int samples,
-                              std::mt19937_64& rng) {
+void checkGeometryDerivatives(const model::KinematicModel<K>& robot, const IVec& box, int samples, std::mt19937_64& rng,
+                              bool requireAffine = true) {
   constexpr int n = K::kDof;
   const model::RobotDescription& d = robot.description();
   GeometryDerivatives out;
@@ -250,8 +252,14 @@ void checkGeometryDerivatives(const model::KinematicModel<K>& robot, const IVec&
   }
   const K k = robot.kinematics();
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int affineChecked = 0;
   for (int s = 0; s < samples; ++s) {
     const DVec q = randomPoint(box, rng);
+    double tau[kMaxDof];  // the pose's symbols in the affine forms (AffineForm::variable)
+    for (int m = 0; m < n; ++m) {
+      const interval::AffineForm<kMaxDof> x = interval::AffineForm<kMaxDof>::variable(box[m], m);
+      tau[m] = (q[m] - x.centre()) / x.coefficient(m);
+    }
     std::vector<double> g;
     for (const model::GeometryValue& v : d.geometry) g.push_back(v.nominal + v.lo + unit(rng) * (v.hi - v.lo));
     double jinv[n * n];
@@ -280,12 +288,22 @@ void checkGeometryDerivatives(const model::KinematicModel<K>& robot, const IVec&
             EXPECT_LT(std::abs(fd), 1e-6) << d.geometry[v].name << " moves row " << r << " but has no entry for it";
             continue;
           }
-          EXPECT_TRUE(encloses(out.entries[static_cast<std::size_t>(e)].d[static_cast<std::size_t>(l)].toInterval(), fd,
-                               1e-6 * (1.0 + std::abs(fd))))
+          const GeometryRowDerivative& entryE = out.entries[static_cast<std::size_t>(e)];
+          EXPECT_TRUE(encloses(entryE.d[static_cast<std::size_t>(l)].toInterval(), fd, 1e-6 * (1.0 + std::abs(fd))))
               << d.geometry[v].name << " row " << r << " column " << l;
+          if (!entryE.affine) continue;
+          // The affine form in the pose, at this pose's symbols: centre + sum_m slope_m tau_m +- radius.
+          double lin = entryE.centre[l];
+          for (int m = 0; m < n; ++m) lin += entryE.slope[l][m] * tau[m];
+          EXPECT_LE(std::abs(fd - lin), entryE.radius[l] + 1e-6 * (1.0 + std::abs(fd)))
+              << d.geometry[v].name << " row " << r << " column " << l << " (affine form)";
+          ++affineChecked;
         }
       }
     }
+  }
+  if (requireAffine) {
+    EXPECT_GT(affineChecked, 0) << "no affine geometry derivative was checked";
   }
 }
 

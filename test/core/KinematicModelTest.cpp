@@ -204,6 +204,29 @@ TEST(KinematicModel, GeometryDerivativesContainDifferencesInTheGeometry) {
   }
 }
 
+TEST(KinematicModel, GeometryDerivativesAsAffineFormsInThePoseContainDifferences) {
+  // The generic path's geometry derivatives as first-order affine forms in the pose (what the decomposed geometry
+  // form and the combined form's correlated products use): at random poses of random boxes and random admissible
+  // geometries, central differences in each geometry value lie in centre + slope . tau +- radius.
+  std::mt19937_64 rng(31);
+  model::GoughGeometry g = test::ref6File().geometry;
+  g.setUniformAnchorUncertainty(5e-4);
+  const auto generic = model::makeGenericGough(g);
+  const auto* gough = dynamic_cast<const model::KinematicModel<model::GoughKinematics>*>(generic.get());
+  ASSERT_NE(gough, nullptr);
+  const IVec paper = test::ref6File().workspaces.at("paper").initialBox();
+  for (int s = 0; s < 8; ++s) test::checkGeometryDerivatives(*gough, randomBox(paper, s % 2 ? 0.02 : 0.1, rng), 4, rng);
+
+  io::ModelFile file = io::loadModelFile(test::configPath("delta3.yaml"));
+  file.description.setUncertainty("forearm_length", 1e-3);
+  file.description.setUncertainty("motor_angle[1]", 1e-3);
+  const auto m = model::ModelRegistry::global().find("delta3")->make(file.description);
+  const auto* delta3 = dynamic_cast<const model::KinematicModel<model::Delta3Kinematics>*>(m.get());
+  ASSERT_NE(delta3, nullptr);
+  for (int s = 0; s < 20; ++s)
+    test::checkGeometryDerivatives(*delta3, randomBox(deltaWorkspace().initialBox(), 0.05, rng), 5, rng);
+}
+
 TEST(KinematicModel, Delta3MaxErrorBracketsTheSampledMaximaAndVerdictsFollow) {
   const auto d = delta();
   const domain::Domain& ws = deltaWorkspace();

@@ -1,5 +1,4 @@
-// Trajectories and motion varieties (domain/WaypointTrajectory, PolynomialTrajectory, ParametricVariety, the YAML
-// reader io/TrajectoryFile and pkm_verify --trajectory):
+// Trajectories and motion varieties (domain/WaypointTrajectory, PolynomialTrajectory, ParametricVariety):
 //   * poseView enclosures contain the point poses and the point derivatives of the Dual<double> evaluation at
 //     random points of random boxes (also boxes across segment boundaries), and the mean-value data hold:
 //     pose(u) in centrePose + d pose/du (box) * deviation;
@@ -8,58 +7,42 @@
 //     maximum, UNSAFE at 5% below with a witness time whose nominal pose really exceeds the threshold, for a helix
 //     of quintic segments, a straight line into the near-singular region yaw -> pi/2, a slerp between two tilted
 //     orientations and a 2-parameter variety; a descent through the coplanar singularity z = 0 is UNSAFE; waypoints
-//     that are all accurate with an inaccurate middle are caught;
-//   * YAML errors name the file, key and row; the command-line tool reports witness_t and undecided time intervals.
+//     that are all accurate with an inaccurate middle are caught.
+// The YAML reader's tests are in test/io/TrajectoryFileTest.cpp, pkm_verify --trajectory's in
+// test/tools/TrajectoryCliTest.cpp.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
-#include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <limits>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "TestRobots.hpp"
+#include "TrajectorySampling.hpp"
 #include "pkm_accuracy/core/Exceptions.hpp"
 #include "pkm_accuracy/core/domain/ParametricVariety.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
 #include "pkm_accuracy/core/domain/WaypointTrajectory.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
-#include "pkm_accuracy/io/TrajectoryFile.hpp"
 
 using namespace pkm_accuracy;
 using domain::PiecewiseTrajectory;
 using domain::PolynomialTrajectory;
 using domain::WaypointTrajectory;
+using test::ref6;
+using test::rotation;
+using test::sample;
+using test::Sampled;
+using test::worstError;
 using verify::Verdict;
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
-
-const model::GoughPlatform& ref6() {
-  static const model::GoughPlatform robot(test::ref6File().geometry);
-  return robot;
-}
-
-DVec worstError(const DVec& pose) {
-  try {
-    return ref6().worstErrorAt(pose);
-  } catch (const SingularMatrix&) {
-    return DVec::Constant(6, kInf);
-  }
-}
 
 WaypointTrajectory waypoints(const std::vector<std::array<double, 7>>& rows, WaypointTrajectory::Interpolation i) {
   std::vector<WaypointTrajectory::Waypoint> w;
@@ -121,26 +104,6 @@ PolynomialTrajectory helix(int segments) {
   return PolynomialTrajectory(segs);
 }
 
-/// Dense sampling of the worst error along a trajectory (n equally spaced times, double precision).
-struct Sampled {
-  DVec max = DVec::Zero(6);
-  std::vector<double> at = std::vector<double>(6, 0.0);
-};
-Sampled sample(const PiecewiseTrajectory& traj, int n) {
-  Sampled s;
-  for (int i = 0; i < n; ++i) {
-    const double t = traj.startTime() + (traj.endTime() - traj.startTime()) * i / (n - 1);
-    const DVec f = worstError(traj.pointAtTime(t).pose);
-    for (int k = 0; k < 6; ++k) {
-      if (f[k] > s.max[k]) {
-        s.max[k] = f[k];
-        s.at[k] = t;
-      }
-    }
-  }
-  return s;
-}
-
 /// Checks the poseView of random boxes (some across segment boundaries) against the point evaluation.
 void checkPoseViews(const PiecewiseTrajectory& traj, std::uint64_t seed, int boxes) {
   std::mt19937_64 rng(seed);
@@ -194,12 +157,6 @@ void checkPoseViews(const PiecewiseTrajectory& traj, std::uint64_t seed, int box
     for (int i = 0; i < 6; ++i) EXPECT_LT(at[i].width(), 1e-9) << at[i];
   }
   EXPECT_GT(spanning, boxes / 10) << "too few boxes across segment boundaries were tested";
-}
-
-Eigen::Matrix3d rotation(const DVec& pose) {
-  return (Eigen::AngleAxisd(pose[5], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pose[4], Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(pose[3], Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
 }
 
 verify::VerifierResult verifyAt(const domain::Domain& d, const DVec& thresholds) {
@@ -565,393 +522,4 @@ TEST(TrajectoryVerify, AccurateWaypointsWithAnInaccurateMiddleAreCaught) {
   // Just above the sampled maximum it is SAFE.
   thresholds[4] = s.max[4] * 1.05;
   EXPECT_EQ(verifyAt(traj, thresholds).verdict, Verdict::Safe);
-}
-
-// ---- YAML files -------------------------------------------------------------------------------------------------
-namespace {
-
-std::string parseError(const std::string& yaml) {
-  try {
-    io::parseTrajectory(yaml, "traj.yaml");
-  } catch (const ParseError& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
-}  // namespace
-
-TEST(TrajectoryFile, ReadsWaypointsPolynomialsVarietiesAndRegions) {
-  const auto w = io::parseTrajectory(
-      "interpolation: linear_rpy\n"
-      "waypoints:\n"
-      "  - [0.0, -0.1, 0.0, 0.47, 0.0, 0.0, 0.0]\n"
-      "  - [1.5,  0.1, 0.0, 0.47, 0.1, 0.0, 0.2]\n"
-      "region: {type: cylinder, centre: [0, 0], radius: 0.2, z: [0.4, 0.5]}\n",
-      "w.yaml");
-  ASSERT_EQ(w.kind, io::TrajectoryFile::Kind::Waypoints);
-  ASSERT_TRUE(w.trajectory);
-  EXPECT_EQ(w.trajectory->endTime(), 1.5);
-  EXPECT_EQ(w.region, "cylinder");
-  EXPECT_EQ(w.description, "waypoints (linear_rpy), 2 waypoints");
-  EXPECT_NEAR(w.trajectory->pointAtTime(0.75).pose[5], 0.1, 1e-15);
-  EXPECT_EQ(dynamic_cast<const WaypointTrajectory&>(*w.trajectory).interpolation(),
-            WaypointTrajectory::Interpolation::LinearRpy);
-
-  const auto p = io::parseTrajectory(
-      "polynomial_segments:\n"
-      "  - {t: [0, 1], x: [0, 0.1], y: [0], z: [0.47], roll: [0], pitch: [0], yaw: [0, 0, 0.3]}\n"
-      "  - {t: [1, 3], x: [0.1], y: [0, 0.01], z: [0.47], roll: [0], pitch: [0], yaw: [0.3, 0.6, -0.1]}\n",
-      "p.yaml");
-  ASSERT_EQ(p.kind, io::TrajectoryFile::Kind::Polynomial);
-  EXPECT_EQ(p.trajectory->segments(), 2);
-  EXPECT_NEAR(p.trajectory->pointAtTime(2.0).pose[5], 0.3 + 0.6 - 0.1, 1e-15);
-  EXPECT_EQ(p.region, "none");
-
-  const auto v = io::parseTrajectory(
-      "variety:\n"
-      "  parameters: 2\n"
-      "  x: [[-0.1, 0, 0], [0.2, 1, 0]]\n"
-      "  y: [[0.2, 0, 1]]\n"
-      "  z: [[0.47, 0, 0]]\n"
-      "region: {type: box, x: [-0.2, 0.2], y: [-0.2, 0.2], z: [0.4, 0.5]}\n",
-      "v.yaml");
-  ASSERT_EQ(v.kind, io::TrajectoryFile::Kind::Variety);
-  EXPECT_FALSE(v.trajectory);
-  ASSERT_TRUE(v.variety);
-  EXPECT_EQ(v.domain->variables(), 2);
-  DVec pose;
-  DMat jac;
-  v.variety->pointAt((DVec(2) << 0.5, 0.25).finished(), pose, jac);
-  EXPECT_DOUBLE_EQ(pose[0], 0.0);
-  EXPECT_DOUBLE_EQ(pose[1], 0.05);
-  EXPECT_DOUBLE_EQ(pose[5], 0.0);
-}
-
-TEST(TrajectoryFile, ErrorsNameTheFileKeyAndRow) {
-  const std::string two = "  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, 0, 0.47, 0, 0, 0]\n";
-  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
-      {"waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, 0, 0.47, 0, 0, 0]\n",
-       {"traj.yaml: waypoints[2][0]", "not greater", "1 s"}},
-      {"waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, 0, 0.47, 0, 0]\n",
-       {"traj.yaml: waypoints[1]", "expected 7 numbers", "got 6"}},
-      {"waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, .nan, 0.47, 0, 0, 0]\n",
-       {"traj.yaml: waypoints[1][2]", "finite", ".nan"}},
-      {"waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, abc, 0.47, 0, 0, 0]\n",
-       {"traj.yaml: waypoints[1][2]", "'abc'"}},
-      {"waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n", {"traj.yaml: waypoints", "at least 2"}},
-      {"waypoints: 3\n", {"traj.yaml: waypoints", "list of rows"}},
-      {"interpolation: cubic\nwaypoints:\n" + two, {"traj.yaml: interpolation", "slerp or linear_rpy", "cubic"}},
-      {"waypoint:\n" + two, {"traj.yaml: waypoint", "unknown key"}},
-      {"waypoints:\n" + two + "polynomial_segments: []\n", {"traj.yaml", "exactly one of"}},
-      {"region: {type: box, x: [0, 1], y: [0, 1], z: [0, 1]}\n", {"traj.yaml", "expected one of"}},
-      {"waypoints:\n" + two + "region: {type: cone}\n", {"traj.yaml: region.type", "cone"}},
-      {"waypoints:\n" + two + "region: {type: box, x: [1, 0], y: [0, 1], z: [0, 1]}\n", {"traj.yaml: region.x"}},
-      {"waypoints:\n" + two + "region: {type: sphere, centre: [0, 0, 0], radius: -1}\n",
-       {"traj.yaml: region", "radius"}},
-      {"polynomial_segments:\n  - {t: [0, 1], x: [0], y: [0], z: [0.47], roll: [0], pitch: [0], yaw: [0]}\n"
-       "  - {t: [2, 3], x: [0], y: [0], z: [0.47], roll: [0], pitch: [0], yaw: [0]}\n",
-       {"traj.yaml: polynomial_segments[1].t[0]", "previous one ends"}},
-      {"polynomial_segments:\n  - {t: [0, 1], x: [0], y: [0], z: [0.47], roll: [0], pitch: [0]}\n",
-       {"traj.yaml: polynomial_segments[0].yaw", "missing"}},
-      {"polynomial_segments:\n  - {t: [1, 1], x: [0], y: [0], z: [0.47], roll: [0], pitch: [0], yaw: [0]}\n",
-       {"traj.yaml: polynomial_segments[0].t", "start < end"}},
-      {"polynomial_segments:\n  - {t: [0, 1], x: [0, .inf], y: [0], z: [0.47], roll: [0], pitch: [0], yaw: [0]}\n",
-       {"traj.yaml: polynomial_segments[0].x[1]", "finite"}},
-      {"variety:\n  parameters: 2\n  x: [[1.0, 0.5, 0]]\n", {"traj.yaml: variety.x[0][1]", "integer exponent"}},
-      {"variety:\n  parameters: 7\n", {"traj.yaml: variety.parameters", "1 to 6"}},
-      {"variety:\n  parameters: 2\n  x: [[1.0, 1]]\n", {"traj.yaml: variety.x[0]", "expected 3 numbers"}},
-      {"waypoints: [\n", {"traj.yaml: invalid YAML"}},
-      {"waypoints:\n" + two + "frame: 3\n", {"traj.yaml: frame", "expected a map", "3"}},
-      {"waypoints:\n" + two + "frame: {rotation: [0, 0, 0]}\n", {"traj.yaml: frame", "rotation", "unknown key"}},
-      {"waypoints:\n" + two + "frame: {rpy: [0, 0]}\n", {"traj.yaml: frame.rpy"}},
-      {"waypoints:\n" + two + "frame: {translation: [0, .nan, 0]}\n", {"traj.yaml: frame.translation", "finite"}},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.first);
-    const std::string e = parseError(c.first);
-    for (const auto& m : c.second) EXPECT_NE(e.find(m), std::string::npos) << "'" << m << "' in: " << e;
-  }
-  try {
-    io::loadTrajectoryFile("/nonexistent/traj.yaml");
-    FAIL();
-  } catch (const ParseError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/traj.yaml: cannot open file"), std::string::npos);
-  }
-}
-
-TEST(TrajectoryFile, FrameKeyVerifiesThePosesInTheBaseFrame) {
-  // A waypoint trajectory and a variety given in a frame F at translation t, rotation Rz(0.4) Ry(-0.03) Rx(0.02).
-  const Eigen::Vector3d t(0.01, -0.02, 0.05);
-  const Eigen::Matrix3d F = rotation((DVec(6) << 0, 0, 0, 0.02, -0.03, 0.4).finished());
-  const std::string frame = "frame: {translation: [0.01, -0.02, 0.05], rpy: [0.02, -0.03, 0.4]}\n";
-  const auto w = io::parseTrajectory(
-      "waypoints:\n"
-      "  - [0.0, -0.03, 0.02, 0.42, 0.02, -0.01, 0.1]\n"
-      "  - [2.0,  0.04, -0.01, 0.43, -0.03, 0.02, -0.2]\n" +
-          frame,
-      "w.yaml");
-  const auto v = io::parseTrajectory(
-      "variety:\n  parameters: 2\n  x: [[-0.03, 0, 0], [0.06, 1, 0]]\n  y: [[0.04, 0, 1]]\n  z: [[0.42, 0, 0]]\n"
-      "  yaw: [[0.1, 1, 1]]\n" +
-          frame,
-      "v.yaml");
-  EXPECT_NE(w.description.find("in frame (translation [0.01, -0.02, 0.05] m, rpy [0.02, -0.03, 0.4] rad)"),
-            std::string::npos)
-      << w.description;
-  // The independent mapping: p_base = t + F p, R_base = F R (principal RPY).
-  auto toBase = [&](const DVec& p) {
-    const Eigen::Matrix3d R = F * rotation(p);
-    const Eigen::Vector3d x = t + F * p.head<3>();
-    return (DVec(6) << x, std::atan2(R(2, 1), R(2, 2)), std::asin(-R(2, 0)), std::atan2(R(1, 0), R(0, 0))).finished();
-  };
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  for (int i = 0; i < 50; ++i) {
-    // The trajectory itself stays in F; the domain's poses are its base-frame images.
-    const double u = unit(rng);
-    const DVec inF = w.trajectory->pointAtTime(2.0 * u).pose;
-    const IVec base = w.domain->poseAt(DVec::Constant(1, u));
-    const DVec want = toBase(inF);
-    for (int k = 0; k < 6; ++k) {
-      EXPECT_TRUE(base[k].contains(want[k]) || std::abs(base[k].mid() - want[k]) < 1e-14) << k;
-      EXPECT_LT(base[k].width(), 1e-12) << k;
-    }
-    const DVec uv = (DVec(2) << unit(rng), unit(rng)).finished();
-    DVec pose;
-    DMat jac;
-    v.variety->pointAt(uv, pose, jac);
-    const IVec vb = v.domain->poseAt(uv);
-    const DVec vw = toBase(pose);
-    for (int k = 0; k < 6; ++k) EXPECT_NEAR(vb[k].mid(), vw[k], 1e-14) << k;
-  }
-  // The verifier on the framed domain: max-error brackets the maxima of the base-frame poses sampled by the oracle,
-  // and they differ from the unframed trajectory's (the frame is not ignored).
-  verify::VerifierOptions o;
-  o.mode = verify::Mode::MaxError;
-  o.alpha = 0.005;
-  o.alpha_relative = true;
-  o.time_limit_s = 20.0;
-  const verify::VerifierResult r = verify::Verifier::run(ref6(), *w.domain, o);
-  const verify::VerifierResult plain = verify::Verifier::run(ref6(), *w.trajectory, o);
-  ASSERT_TRUE(r.converged) << r.message;
-  DVec sampled = DVec::Zero(6), sampledPlain = DVec::Zero(6);
-  for (int i = 0; i <= 2000; ++i) {
-    const DVec inF = w.trajectory->pointAtTime(2.0 * i / 2000).pose;
-    sampled = sampled.cwiseMax(worstError(toBase(inF)));
-    sampledPlain = sampledPlain.cwiseMax(worstError(inF));
-  }
-  for (int k = 0; k < 6; ++k) {
-    EXPECT_LE(r.max_lower[k], sampled[k] * (1 + 1e-9)) << k;  // attained (up to the sampling)
-    EXPECT_GE(r.max_upper[k], sampled[k]) << k;
-    EXPECT_GE(sampled[k], r.max_upper[k] / 1.01) << k;
-  }
-  bool differs = false;
-  for (int k = 0; k < 6; ++k)
-    differs = differs || std::abs(plain.max_upper[k] - r.max_upper[k]) > 0.02 * r.max_upper[k];
-  EXPECT_TRUE(differs);
-}
-
-// ---- command-line tool ------------------------------------------------------------------------------------------
-namespace {
-
-class TrajectoryCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    char dir[] = "/tmp/pkm_traj_cli_XXXXXX";
-    ASSERT_NE(::mkdtemp(dir), nullptr);
-    dir_ = dir;
-  }
-  void TearDown() override {
-    std::error_code ec;
-    std::filesystem::remove_all(dir_, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream f(dir_ + "/" + name);
-    f << text;
-    return dir_ + "/" + name;
-  }
-  static std::string read(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-  }
-  /// Runs pkm_verify; returns the exit code, fills out / err.
-  int run(const std::vector<std::string>& args, std::string& out, std::string& err) const {
-    std::string cmd = "'" + std::string(PKM_PVERIFY_EXE) + "'";
-    for (const auto& a : args) cmd += " '" + a + "'";
-    cmd += " > '" + dir_ + "/out.txt' 2> '" + dir_ + "/err.txt' < /dev/null";
-    const int status = std::system(cmd.c_str());
-    out = read(dir_ + "/out.txt");
-    err = read(dir_ + "/err.txt");
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  static std::string join(const DVec& v) {
-    std::string s;
-    char buf[64];
-    for (int i = 0; i < v.size(); ++i) {
-      std::snprintf(buf, sizeof buf, "%.17g", v[i]);
-      s += (i ? "," : "") + std::string(buf);
-    }
-    return s;
-  }
-  std::string dir_;
-};
-
-const char* kSlerpFile =
-    "interpolation: slerp\n"
-    "waypoints:\n"
-    "  - [0.0, -0.10, 0.05, 0.46, 0.25, -0.20, 0.15]\n"
-    "  - [1.0,  0.00, 0.00, 0.47, 0.00,  0.10, 0.00]\n"
-    "  - [3.0,  0.12, -0.08, 0.49, -0.20, 0.30, -0.25]\n";
-
-}  // namespace
-
-TEST_F(TrajectoryCli, VerifiesATrajectoryAndReportsTheWitnessTime) {
-  const std::string file = write("slerp.yaml", kSlerpFile);
-  const io::TrajectoryFile traj = io::loadTrajectoryFile(file);
-  const Sampled s = sample(*traj.trajectory, 20000);
-  const std::string robot = test::configPath("ref6.yaml");
-  std::string out, err;
-  // SAFE at +10%: empty list of undecided time intervals.
-  ASSERT_EQ(
-      run({"--robot", robot, "--trajectory", file, "--thresholds", join(s.max * 1.1), "--json", dir_ + "/safe.json"},
-          out, err),
-      0)
-      << out << err;
-  EXPECT_NE(out.find("trajectory: " + file + " (waypoints (slerp), 3 waypoints), t in [0, 3] s"), std::string::npos)
-      << out;
-  const YAML::Node safe = YAML::LoadFile(dir_ + "/safe.json");  // JSON is YAML
-  EXPECT_EQ(safe["verdict"].as<std::string>(), "SAFE");
-  EXPECT_EQ(safe["domain"].as<std::string>(), "trajectory");
-  EXPECT_EQ(safe["trajectory"].as<std::string>(), file);
-  EXPECT_TRUE(safe["workspace"].IsNull());
-  EXPECT_TRUE(safe["witness_t"].IsNull());
-  EXPECT_EQ(safe["time_span"][1].as<double>(), 3.0);
-  EXPECT_EQ(safe["undecided_t"].size(), 0u);
-  EXPECT_EQ(safe["variables"][0].as<std::string>(), "u");
-
-  // UNSAFE at -5%: witness_t is the time of witness_variables[0] and its nominal pose exceeds the threshold.
-  const DVec thresholds = s.max * 0.95;
-  ASSERT_EQ(run({"--robot", robot, "--trajectory", file, "--thresholds", join(thresholds), "--json",
-                 dir_ + "/unsafe.json", "--yaml", dir_ + "/unsafe.yaml"},
-                out, err),
-            1)
-      << out << err;
-  EXPECT_NE(out.find("witness:   t = "), std::string::npos) << out;
-  const YAML::Node j = YAML::LoadFile(dir_ + "/unsafe.json");
-  EXPECT_EQ(j["verdict"].as<std::string>(), "UNSAFE");
-  const double t = j["witness_t"].as<double>(), u = j["witness_variables"][0].as<double>();
-  EXPECT_NEAR(t, 3.0 * u, 1e-12);
-  const int k = j["witness_component"].as<int>();
-  EXPECT_GT(worstError(traj.trajectory->pointAtTime(t).pose)[k], thresholds[k]);
-  for (int i = 0; i < 6; ++i) {
-    EXPECT_NEAR(j["witness"][i].as<double>(), traj.trajectory->pointAtTime(t).pose[i], 1e-9);
-  }
-  EXPECT_TRUE(j["undecided_t"].IsSequence());
-  const YAML::Node y = YAML::LoadFile(dir_ + "/unsafe.yaml");
-  EXPECT_EQ(y["witness_t"].as<double>(), t);
-
-  // A time limit far too small: UNDECIDED, with the undecided part of the trajectory as time intervals.
-  ASSERT_EQ(run({"--robot", robot, "--trajectory", file, "--thresholds", join(s.max * 1.0001), "--max-boxes", "3",
-                 "--json", dir_ + "/undecided.json"},
-                out, err),
-            2)
-      << out << err;
-  const YAML::Node und = YAML::LoadFile(dir_ + "/undecided.json");
-  ASSERT_GE(und["undecided_t"].size(), 1u);
-  for (std::size_t i = 0; i < und["undecided_t"].size(); ++i) {
-    const double lo = und["undecided_t"][i][0].as<double>(), hi = und["undecided_t"][i][1].as<double>();
-    EXPECT_LE(0.0, lo);
-    EXPECT_LE(lo, hi);
-    EXPECT_LE(hi, 3.0);
-  }
-  EXPECT_NE(out.find("in time: ["), std::string::npos) << out;
-
-  // max-error: the argmax of every component as a parameter, a time and a pose (which attains the lower bound).
-  ASSERT_EQ(run({"--robot", robot, "--trajectory", file, "--mode", "max-error", "--alpha", "0.02", "--json",
-                 dir_ + "/max.json"},
-                out, err),
-            0)
-      << out << err;
-  const YAML::Node mx = YAML::LoadFile(dir_ + "/max.json");
-  ASSERT_EQ(mx["max_error"]["argmax_t"].size(), 6u);
-  for (int c = 0; c < 6; ++c) {
-    const double tc = mx["max_error"]["argmax_t"][c].as<double>();
-    EXPECT_NEAR(tc, 3.0 * mx["max_error"]["argmax_variables"][c][0].as<double>(), 1e-12);
-    EXPECT_GE(mx["max_error"]["upper"][c].as<double>(), s.max[c] * (1 - 1e-9));
-    ASSERT_EQ(mx["max_error"]["argmax"][c].size(), 6u);
-    DVec pose(6);
-    for (int i = 0; i < 6; ++i) pose[i] = mx["max_error"]["argmax"][c][i].as<double>();
-    EXPECT_LT((pose - traj.trajectory->pointAtTime(tc).pose).cwiseAbs().maxCoeff(), 1e-9);
-    EXPECT_GE(worstError(pose)[c], mx["max_error"]["lower"][c].as<double>() * (1 - 1e-9));
-  }
-
-  // --min-width takes one value per parameter.
-  EXPECT_EQ(
-      run({"--robot", robot, "--trajectory", file, "--thresholds", join(s.max * 1.1), "--min-width", "1e-6"}, out, err),
-      0)
-      << err;
-}
-
-TEST_F(TrajectoryCli, BadTrajectoryInputExitsThree) {
-  const std::string robot = test::configPath("ref6.yaml");
-  const std::string good = write("good.yaml", kSlerpFile);
-  const std::string t6 = "1e-4,1e-4,1e-4,1e-3,1e-3,1e-3";
-  const std::string decreasing = write("decreasing.yaml",
-                                       "waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [2, 0, 0, 0.47, 0, 0, 0]\n"
-                                       "  - [1, 0, 0, 0.47, 0, 0, 0]\n");
-  const std::string shortRow = write("short.yaml", "waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, 0, 0]\n");
-  const std::string nan =
-      write("nan.yaml", "waypoints:\n  - [0, 0, 0, 0.47, 0, 0, 0]\n  - [1, .nan, 0, 0.47, 0, 0, 0]\n");
-  const std::vector<std::pair<std::vector<std::string>, std::vector<std::string>>> cases = {
-      {{"--robot", robot, "--workspace", "paper", "--trajectory", good, "--thresholds", t6},
-       {"--trajectory", "--workspace"}},
-      {{"--robot", robot, "--trajectory", decreasing, "--thresholds", t6},
-       {"--trajectory", "decreasing.yaml: waypoints[2][0]", "not greater"}},
-      {{"--robot", robot, "--trajectory", shortRow, "--thresholds", t6},
-       {"--trajectory", "short.yaml: waypoints[1]", "expected 7 numbers"}},
-      {{"--robot", robot, "--trajectory", nan, "--thresholds", t6}, {"nan.yaml: waypoints[1][1]", "finite"}},
-      {{"--robot", robot, "--trajectory", dir_ + "/missing.yaml", "--thresholds", t6},
-       {"--trajectory", "missing.yaml"}},
-      {{"--robot", robot, "--trajectory", dir_, "--thresholds", t6}, {"--trajectory", "not a regular file"}},
-      {{"--robot", robot, "--trajectory", good, "--thresholds", t6, "--min-width", "1,2"},
-       {"--min-width", "expected 1 comma-separated value", "got 2"}},
-      {{"--robot", robot, "--trajectory", good, "--thresholds", t6, "--min-width", "-1"}, {"--min-width[0] (u)"}},
-      {{"--robot", robot, "--trajectory", "", "--thresholds", t6}, {"--trajectory", "empty"}},
-  };
-  for (const auto& c : cases) {
-    std::string line;
-    for (const auto& a : c.first) line += a + " ";
-    SCOPED_TRACE(line);
-    std::string out, err;
-    EXPECT_EQ(run(c.first, out, err), 3) << out << err;
-    EXPECT_TRUE(out.empty()) << out;
-    EXPECT_EQ(err.rfind("pkm_verify: error: ", 0), 0u) << err;
-    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-    for (const auto& m : c.second) EXPECT_NE(err.find(m), std::string::npos) << "'" << m << "' in: " << err;
-  }
-}
-
-TEST_F(TrajectoryCli, VarietyFromTheCommandLine) {
-  const std::string file = write("variety.yaml",
-                                 "variety:\n"
-                                 "  parameters: 2\n"
-                                 "  x: [[-0.05, 0, 0], [0.1, 1, 0]]\n"
-                                 "  y: [[-0.05, 0, 0], [0.1, 0, 1]]\n"
-                                 "  z: [[0.47, 0, 0]]\n"
-                                 "  yaw: [[0.2, 1, 1]]\n");
-  std::string out, err;
-  ASSERT_EQ(run({"--robot", test::configPath("ref6.yaml"), "--trajectory", file, "--thresholds",
-                 "1e-3,1e-3,1e-3,1e-2,1e-2,1e-2", "--json", dir_ + "/v.json"},
-                out, err),
-            0)
-      << out << err;
-  const YAML::Node j = YAML::LoadFile(dir_ + "/v.json");
-  EXPECT_EQ(j["domain"].as<std::string>(), "variety");
-  EXPECT_TRUE(j["witness_t"].IsNull());
-  EXPECT_TRUE(j["time_span"].IsNull());
-  EXPECT_EQ(j["variables"].size(), 2u);
-  EXPECT_NE(out.find("variety:   " + file), std::string::npos) << out;
 }

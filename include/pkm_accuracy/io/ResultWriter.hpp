@@ -11,13 +11,14 @@
 // writes null, YAML writes .inf / -.inf / .nan (standard YAML floats).
 //
 // JSON / YAML keys (every key is always present; null where it does not apply):
-//   tool, exit_code, verdict ("SAFE" | "UNSAFE" | "UNDECIDED"), reason ("precision_limit", ... for UNDECIDED;
-//   "" otherwise), message, mode ("verify" | "max_error"), robot, workspace, workspace_region, workspace_box ([[lo, hi]
-//   x variables]), variables (names), components (["dx", "dy", "dz", "drx", "dry", "drz"]), units (["m", "m", "m",
-//   "rad", ...]), method, bisection, thresholds ([6] or null), alpha, alpha_relative, anchor_uncertainty (the largest
-//   half-width of an anchor coordinate, m), max_boxes, time_limit,
-//   min_width, geometry_splitting ("auto" | "never" | "always"), stall_levels (0 = half the box variables, >= 2), faces
-//   (bool), skip_hopeless (bool), geometry_form ("combined" | "decomposed"), geometry_parameters (names of the
+//   tool, version, exit_code, verdict ("SAFE" | "UNSAFE" | "UNDECIDED"), reason ("precision_limit", ... for
+//   UNDECIDED; "" otherwise), message, mode ("verify" | "max_error"), robot, robot_type (e.g. "gough", "delta3"),
+//   workspace, workspace_region, workspace_box ([[lo, hi] x variables]), variables (names), components (["dx", "dy",
+//   "dz", "drx", "dry", "drz"]), units (["m", "m", "m", "rad", ...]), method, thresholds ([6] or null), alpha,
+//   alpha_relative, anchor_uncertainty (the largest half-width of an anchor coordinate, m), max_boxes, time_limit,
+//   min_width, geometry_splitting ("auto" | "never" | "always"),
+//   tuning (the search's internal knobs as run, verify::SearchTuning: {bisection ("smear" | "width" | "round-robin"),
+//   stall_levels, faces, skip_hopeless, decompose_geometry, centre_check_period}), geometry_parameters (names of the
 //   uncertain geometry parameters, e.g. "platform_anchors[3].z", in the order of the model's parameters; null without
 //   geometric uncertainty), geometry_ranges ({parameter name: [lo, hi]}, the admissible values; null without),
 //   witness (the pose [x, y, z, roll, pitch, yaw] when UNSAFE), witness_variables (in the
@@ -100,7 +101,7 @@ std::vector<std::pair<double, double>> undecidedTimes(const verify::VerifierResu
 
 /// Name of a mode as on the command line and in the ROS messages: "verify", "max_error".
 std::string modeName(verify::Mode mode);
-/// Name of a bisection rule as on the command line: "smear", "width", "round-robin".
+/// Name of a bisection rule as in the reports' tuning.bisection: "smear", "width", "round-robin".
 std::string bisectionName(verify::Bisection bisection);
 
 /// Name of a geometry splitting mode as on the command line: "auto", "never", "always".

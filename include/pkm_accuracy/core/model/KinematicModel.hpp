@@ -9,6 +9,7 @@
 //                                      products with a preconditioner keep their cancellations (SegmentAffineForm
 //                                      when the remainder is split by its scaling towards the box centre)
 //   Dual<Interval, 1>                  derivatives in one geometry parameter (geometry uncertainty as parameters)
+//   Dual<AffineForm, 1>                the same as affine forms in the pose (the decomposed geometry form)
 //   DependencyMask                     which rows of J^-1 each geometry value enters (exact, structural)
 // and bisects or fixes geometry parameters by restricting their ranges. The derivation: docs/models.md.
 //
@@ -196,6 +197,13 @@ class KinematicModel final : public RobotModel {
     return d;
   }
   bool validParameter(int p) const { return p >= 0 && p < g_.parameterCount(); }
+  /// The rows of J^-1 geometry parameter p moves (bit r).
+  std::uint32_t rowsOf(int p) const { return (*rows_)[static_cast<std::size_t>(g_.valueOf(p))]; }
+  std::vector<std::vector<int>> parameterGroups() const;
+  template <typename G, typename A>
+  void seedGeometry(const std::vector<int>& group, std::vector<G>& g, std::vector<A>& ga, bool on) const;
+  template <typename G, typename A>
+  static bool fillGeometryEntry(int p, int r, const G* jinv, const A* jinvA, GeometryRowDerivative& e);
 
   template <typename T, typename M>
   static M toMatrix(const T* jinv) {
@@ -368,40 +376,115 @@ bool KinematicModel<K>::affineHessianMagnitude(const IVec& pose, const DMat& c,
   return true;
 }
 
+// Each entry twice: the derivative in one geometry parameter as an interval dual (GeometryRowDerivative::d) and as a
+// dual of first-order affine forms in the pose (centre + sum_m slope_m tau_m +- radius; one symbol per pose
+// coordinate, the same for every entry; the geometry values enter as interval constants, so the radius covers every
+// admissible geometry). The affine forms are only reported where every one of them is finite.
+//
+// Parameters that move disjoint sets of rows share one evaluation (the column compression of sparse Jacobians): they
+// are seeded in the same derivative slot, and as no row's formula contains two of them (DependencyMask is exact and
+// structural), each row's slot holds the derivative in the one parameter of the group that it contains. The Gough
+// platform's 36 anchor coordinates need 6 evaluations instead of 36.
 template <typename K>
 bool KinematicModel<K>::geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const {
   out.count = 0;
-  if (g_.parameterCount() == 0) return true;
+  const int params = g_.parameterCount();
+  if (params == 0) return true;
+  // Entries in parameter-major order: the first entry of each parameter.
+  std::vector<int> first(static_cast<std::size_t>(params) + 1, 0);
+  for (int p = 0; p < params; ++p) first[p + 1] = first[p] + __builtin_popcount(rowsOf(p));
+  if (first[params] > GeometryDerivatives::kCapacity) return false;
   using G = interval::Dual<Interval, 1>;
+  using A = interval::Dual<interval::AffineForm<kMaxDof>, 1>;
   std::vector<G> g(g_.ranges().begin(), g_.ranges().end());
+  std::vector<A> ga;
+  ga.reserve(g_.ranges().size());
+  for (const Interval& v : g_.ranges()) ga.emplace_back(interval::AffineForm<kMaxDof>(v));
   G q[D], jinv[D * D];
-  for (int a = 0; a < D; ++a) q[a] = G(pose[a]);
-  for (int p = 0; p < g_.parameterCount(); ++p) {
-    const int v = g_.valueOf(p);
-    const std::uint32_t rows = (*rows_)[static_cast<std::size_t>(v)];
-    if (rows == 0u) continue;
-    g[static_cast<std::size_t>(v)] = G::variable(g_.ranges()[v], 0);
+  A qa[D], jinvA[D * D];
+  for (int a = 0; a < D; ++a) {
+    q[a] = G(pose[a]);
+    qa[a] = A(interval::AffineForm<kMaxDof>::variable(pose[a], a));
+  }
+  bool affine = true;
+  for (const std::vector<int>& group : parameterGroups()) {
+    seedGeometry(group, g, ga, true);
     k_.inverseJacobian(q, g.data(), jinv);
-    g[static_cast<std::size_t>(v)] = G(g_.ranges()[v]);
-    for (int r = 0; r < D; ++r) {
-      if (!(rows & (1u << r))) continue;
-      if (out.count >= GeometryDerivatives::kCapacity) {
-        out.count = 0;
-        return false;
-      }
-      GeometryRowDerivative& e = out.entries[out.count++];
-      e.parameter = p;
-      e.row = r;
-      e.affine = false;
-      e.parameterSlopes = false;
-      for (int l = 0; l < kMaxDof; ++l) {
-        e.d[l] = l < D ? interval::MidRad(jinv[r * D + l].d(0)) : interval::MidRad(0.0);
-        if (l < D && !jinv[r * D + l].d(0).isBounded()) {
-          out.count = 0;
-          return false;
-        }
+    k_.inverseJacobian(qa, ga.data(), jinvA);
+    seedGeometry(group, g, ga, false);
+    for (const int p : group) {
+      int e = first[p];
+      for (int r = 0; r < D; ++r) {
+        if (!(rowsOf(p) & (1u << r))) continue;
+        if (!fillGeometryEntry(p, r, jinv, jinvA, out.entries[e])) return false;
+        affine = affine && out.entries[e++].affine;
       }
     }
+  }
+  out.count = first[params];
+  for (int e = 0; e < out.count && !affine; ++e) out.entries[e].affine = false;
+  return true;
+}
+
+/// Greedy grouping of the geometry parameters into groups whose rows (rowsOf) are pairwise disjoint.
+template <typename K>
+std::vector<std::vector<int>> KinematicModel<K>::parameterGroups() const {
+  std::vector<std::vector<int>> groups;
+  std::vector<std::uint32_t> used;
+  for (int p = 0; p < g_.parameterCount(); ++p) {
+    const std::uint32_t rows = rowsOf(p);
+    if (rows == 0u) continue;
+    std::size_t k = 0;
+    while (k < groups.size() && (used[k] & rows) != 0u) ++k;
+    if (k == groups.size()) {
+      groups.emplace_back();
+      used.push_back(0u);
+    }
+    groups[k].push_back(p);
+    used[k] |= rows;
+  }
+  return groups;
+}
+
+/// Seeds (on) or unseeds (off) the derivative slot of every parameter of `group` in both duals.
+template <typename K>
+template <typename G, typename A>
+void KinematicModel<K>::seedGeometry(const std::vector<int>& group, std::vector<G>& g, std::vector<A>& ga,
+                                     bool on) const {
+  for (const int p : group) {
+    const std::size_t v = static_cast<std::size_t>(g_.valueOf(p));
+    const Interval& range = g_.ranges()[v];
+    g[v] = on ? G::variable(range, 0) : G(range);
+    ga[v] = on ? A::variable(interval::AffineForm<kMaxDof>(range), 0) : A(interval::AffineForm<kMaxDof>(range));
+  }
+}
+
+/// One entry (parameter p, row r) from the interval and affine duals of J^-1; false if the interval one is unbounded.
+template <typename K>
+template <typename G, typename A>
+bool KinematicModel<K>::fillGeometryEntry(int p, int r, const G* jinv, const A* jinvA, GeometryRowDerivative& e) {
+  e.parameter = p;
+  e.row = r;
+  e.parameterSlopes = false;
+  e.affine = true;
+  for (int l = 0; l < kMaxDof; ++l) {
+    e.centre[l] = e.radius[l] = 0.0;
+    e.slope[l].fill(0.0);
+    if (l >= D) {
+      e.d[l] = interval::MidRad(0.0);
+      continue;
+    }
+    const Interval& d = jinv[r * D + l].d(0);
+    if (!d.isBounded()) return false;
+    e.d[l] = interval::MidRad(d);
+    const auto& f = jinvA[r * D + l].d(0);
+    if (!f.finite()) {
+      e.affine = false;
+      continue;
+    }
+    e.centre[l] = f.centre();
+    e.radius[l] = f.radius();
+    for (int m = 0; m < kMaxDof; ++m) e.slope[l][m] = f.coefficient(m);
   }
   return true;
 }

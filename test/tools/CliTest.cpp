@@ -18,7 +18,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -28,7 +27,7 @@
 
 #include <Eigen/Geometry>
 
-#include "TestRobots.hpp"
+#include "../core/TestRobots.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
 #include "pkm_accuracy/io/ModelFile.hpp"
 #include "pkm_accuracy/io/ResultWriter.hpp"
@@ -294,9 +293,6 @@ TEST_F(CliTest, HelpDocumentsUsageAndExitCodes) {
                         "--yaml",
                         "--geometry-splitting",
                         "auto|never|always",
-                        "--stall-levels",
-                        "--faces",
-                        "on|off",
                         "uncertainty_sensitive",
                         "Exit codes",
                         "0  SAFE",
@@ -305,6 +301,10 @@ TEST_F(CliTest, HelpDocumentsUsageAndExitCodes) {
                         "3  bad input",
                         "4  internal error"}) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
+  }
+  // The search's internal knobs (verify::SearchTuning) are no options.
+  for (const char* s : {"--bisection", "--stall-levels", "--faces", "--skip-hopeless", "--geometry-form"}) {
+    EXPECT_EQ(r.out.find(s), std::string::npos) << s;
   }
   EXPECT_TRUE(r.err.empty()) << r.err;
 }
@@ -358,7 +358,12 @@ TEST_F(CliTest, GenerousThresholdsOnTinyBoxAreSafe) {
     EXPECT_EQ(j["exit_code"].num(), 0.0);
     // Without geometric uncertainty: the geometry keys are there, null or empty.
     EXPECT_EQ(j["geometry_splitting"].str(), "auto");
-    EXPECT_EQ(j["stall_levels"].num(), 0.0);
+    // The search's tuning as run: the defaults (pkm_verify does not expose it).
+    EXPECT_EQ(j["tuning"]["bisection"].str(), "smear");
+    EXPECT_EQ(j["tuning"]["stall_levels"].num(), 0.0);
+    EXPECT_TRUE(j["tuning"]["faces"].boolean);
+    EXPECT_TRUE(j["tuning"]["skip_hopeless"].boolean);
+    EXPECT_TRUE(j["tuning"]["decompose_geometry"].boolean);
     EXPECT_TRUE(j["geometry_parameters"].isNull());
     EXPECT_EQ(j["sensitive_count"].num(), 0.0);
     EXPECT_EQ(j["sensitive"].size(), 0u);
@@ -647,13 +652,12 @@ TEST_F(CliTest, DefaultWorkspaceAndListing) {
 TEST_F(CliTest, JsonOnStdoutAndUncertainty) {
   const auto thresholds = scaled(sampledMax(ref6Model(), kTiny, 3), 10.0);
   const RunResult r = run({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty",
-                           "1e-5", "--method", "precond", "--bisection", "round-robin", "--json", "-"});
+                           "1e-5", "--method", "precond", "--json", "-"});
   EXPECT_EQ(r.code, 0) << r.err;
   const Json j = parseJson(r.out);  // stdout holds the JSON only (the summary went to stderr)
   EXPECT_EQ(j["verdict"].str(), "SAFE");
   EXPECT_EQ(j["anchor_uncertainty"].num(), 1e-5);
   EXPECT_EQ(j["method"].str(), "precond");
-  EXPECT_EQ(j["bisection"].str(), "round-robin");
   EXPECT_NE(r.err.find("verdict:   SAFE"), std::string::npos) << r.err;
 }
 
@@ -772,11 +776,10 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   // left, 4 of them on geometry halves).
   const std::vector<double> thresholds = {1.1330e-4, 1.3e-4, 1e-3, 1e-2, 1e-2, 1e-2};
   Json j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "5e-4",
-                    "--threads", "1", "--geometry-splitting", "always", "--stall-levels", "3", "--max-boxes", "10"},
+                    "--threads", "1", "--geometry-splitting", "always", "--max-boxes", "10"},
                    2);
   EXPECT_EQ(j["reason"].str(), "box_budget");
   EXPECT_EQ(j["geometry_splitting"].str(), "always");
-  EXPECT_EQ(j["stall_levels"].num(), 3.0);
   EXPECT_GE(j["stats"]["geometry_switches"].num(), 1.0);
   EXPECT_GE(j["stats"]["geometry_splits"].num(), j["stats"]["geometry_switches"].num());
   const Json& u = j["undecided_boxes"];
@@ -796,34 +799,13 @@ TEST_F(CliTest, GeometrySplittingOptionsAreUsedAndReported) {
   }
   EXPECT_GE(narrowed, 1u);
 
-  j = runJson(
-      {"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "5e-4", "--threads",
-       "1", "--geometry-splitting", "never", "--faces", "off", "--skip-hopeless", "off", "--max-boxes", "20000"},
-      0);
+  j = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(thresholds), "--uncertainty", "5e-4",
+               "--threads", "1", "--geometry-splitting", "never", "--max-boxes", "20000"},
+              0);
   EXPECT_EQ(j["verdict"].str(), "SAFE");  // strategy (a) alone decides this one
   EXPECT_EQ(j["geometry_splitting"].str(), "never");
-  EXPECT_FALSE(j["faces"].boolean);
-  EXPECT_FALSE(j["skip_hopeless"].boolean);
-  EXPECT_EQ(j["geometry_form"].str(), "decomposed");
-  EXPECT_EQ(j["stats"]["unenclosed_boxes"].num(), 0.0);
-  EXPECT_EQ(j["stats"]["face_switches"].num(), 0.0);
-  EXPECT_EQ(j["stats"]["face_boxes"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_switches"].num(), 0.0);
   EXPECT_EQ(j["stats"]["geometry_splits"].num(), 0.0);
-
-  // --geometry-form: dx 0.09% above its maximum, both forms certify it, with different searches (measured: 11 and 1
-  // boxes).
-  std::vector<double> looser = thresholds;
-  looser[0] = 1.1338e-4;
-  Json forms[2];
-  for (int f = 0; f < 2; ++f) {
-    forms[f] = runJson({"--robot", kRef6, "--workspace", tiny_, "--thresholds", join(looser), "--uncertainty", "5e-4",
-                        "--threads", "1", "--geometry-form", f == 0 ? "combined" : "decomposed"},
-                       0);
-    EXPECT_EQ(forms[f]["verdict"].str(), "SAFE");
-    EXPECT_EQ(forms[f]["geometry_form"].str(), f == 0 ? "combined" : "decomposed");
-  }
-  EXPECT_NE(forms[0]["stats"]["boxes"].num(), forms[1]["stats"]["boxes"].num());
 }
 
 TEST_F(CliTest, MaxErrorWithUncertaintyNamesTheWorstGeometry) {
@@ -1120,18 +1102,16 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
       {{"--robot", kRef6, "--thresholds", t6, "--max-boxes", "1.5"}, {"--max-boxes"}},
       {{"--robot", kRef6, "--thresholds", t6, "--uncertainty", "-0.001"}, {"--uncertainty"}},
       {{"--robot", kRef6, "--thresholds", t6, "--min-width", "1,2,3"}, {"--min-width", "6"}},
-      {{"--robot", kRef6, "--thresholds", t6, "--bisection", "random"}, {"--bisection", "random"}},
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting", "sometimes"},
        {"--geometry-splitting", "sometimes", "auto, never or always"}},
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting="}, {"--geometry-splitting", "''"}},
       {{"--robot", kRef6, "--thresholds", t6, "--geometry-splitting"}, {"--geometry-splitting", "missing value"}},
-      {{"--robot", kRef6, "--thresholds", t6, "--faces", "maybe"}, {"--faces", "maybe", "on or off"}},
-      {{"--robot", kRef6, "--thresholds", t6, "--skip-hopeless", "1"}, {"--skip-hopeless", "'1'", "on or off"}},
-      {{"--robot", kRef6, "--thresholds", t6, "--geometry-form", "split"},
-       {"--geometry-form", "'split'", "combined or decomposed"}},
-      {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "-1"}, {"--stall-levels", "-1"}},
-      {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "2.5"}, {"--stall-levels", "2.5"}},
-      {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "5000"}, {"--stall-levels", "<= 1000", "5000"}},
+      // The search's internal knobs (verify::SearchTuning) are no options.
+      {{"--robot", kRef6, "--thresholds", t6, "--bisection", "width"}, {"--bisection", "unknown option"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--faces", "off"}, {"--faces", "unknown option"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--skip-hopeless=off"}, {"--skip-hopeless", "unknown option"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--geometry-form", "combined"}, {"--geometry-form", "unknown option"}},
+      {{"--robot", kRef6, "--thresholds", t6, "--stall-levels", "3"}, {"--stall-levels", "unknown option"}},
       {{"--robot", kRef6, "--thresholds", t6, "--frobnicate"}, {"--frobnicate", "unknown option"}},
       {{"--robot", kRef6, "--thresholds", t6, "extra"}, {"extra", "unexpected argument"}},
       {{"--robot"}, {"--robot", "missing value"}},
@@ -1184,18 +1164,6 @@ TEST_F(CliTest, BadInputExitsThreeNamingTheArgument) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
     for (const auto& m : c.mentions) EXPECT_NE(r.err.find(m), std::string::npos) << "'" << m << "' in: " << r.err;
   }
-}
-
-TEST(CliResultWriter, NumbersRoundTripAndNeverPrintInfOrNan) {
-  using pkm_accuracy::io::jsonNumber;
-  for (double x : {0.1, 1e-4, 1.0 / 3.0, 0.6981317007977318, 5e-324, 1.7976931348623157e308, -2.5, 0.0, 12345.0}) {
-    EXPECT_EQ(std::strtod(jsonNumber(x).c_str(), nullptr), x) << jsonNumber(x);
-  }
-  EXPECT_EQ(jsonNumber(1e-4), "0.0001");
-  EXPECT_EQ(jsonNumber(std::numeric_limits<double>::infinity()), "null");
-  EXPECT_EQ(jsonNumber(-std::numeric_limits<double>::infinity()), "null");
-  EXPECT_EQ(jsonNumber(std::numeric_limits<double>::quiet_NaN()), "null");
-  EXPECT_EQ(pkm_accuracy::io::jsonString("a\"b\\c\nd\x01"), "\"a\\\"b\\\\c\\nd\\u0001\"");
 }
 
 }  // namespace
