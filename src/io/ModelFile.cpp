@@ -215,6 +215,21 @@ ModelFile parse(const YAML::Node& root, const std::string& name, const model::Mo
   return out;
 }
 
+bool isPlanar(const YAML::Node& root) {
+  return root.IsMap() && root["type"] && root["type"].IsScalar() && root["type"].Scalar() == "planar3rpr";
+}
+
+/// planar3rpr documents keep their workspace forms (boxes and discs): the workspaces come from the planar reader.
+ModelFile withPlanarWorkspaces(const YAML::Node& root, const std::string& name, const model::ModelRegistry& registry,
+                               const PlanarRobotFile& planar) {
+  YAML::Node copy = YAML::Clone(root);
+  copy.remove("workspaces");
+  ModelFile out = parse(copy, name, registry);
+  for (const auto& kv : planar.workspaces)
+    out.workspaces[kv.first] = std::make_shared<domain::PlanarWorkspace>(kv.second);
+  return out;
+}
+
 }  // namespace
 
 std::string robotFileType(const std::string& path) {
@@ -234,6 +249,7 @@ ModelFile parseModelDocument(const std::string& yamlText, const std::string& nam
   } catch (const YAML::Exception& e) {
     throw ParseError(name + ": invalid YAML: " + e.what());
   }
+  if (isPlanar(root)) return withPlanarWorkspaces(root, name, registry, parsePlanarRobotDocument(yamlText, name));
   return parse(root, name, registry);
 }
 
@@ -244,16 +260,7 @@ std::shared_ptr<const domain::Domain> loadPoseBoxFile(const std::string& path, c
 
 ModelFile loadModelFile(const std::string& path, const model::ModelRegistry& registry) {
   const YAML::Node root = yaml::loadFile(path);
-  if (root.IsMap() && root["type"] && root["type"].IsScalar() && root["type"].Scalar() == "planar3rpr") {
-    // planar3rpr files keep their workspace forms (boxes and discs): the workspaces come from the planar reader.
-    YAML::Node copy = YAML::Clone(root);
-    copy.remove("workspaces");
-    ModelFile out = parse(copy, path, registry);
-    const PlanarRobotFile planar = loadPlanarRobotFile(path);
-    for (const auto& kv : planar.workspaces)
-      out.workspaces[kv.first] = std::make_shared<domain::PlanarWorkspace>(kv.second);
-    return out;
-  }
+  if (isPlanar(root)) return withPlanarWorkspaces(root, path, registry, loadPlanarRobotFile(path));
   return parse(root, path, registry);
 }
 

@@ -43,10 +43,8 @@ domain::PlanarWorkspace workspace(const YAML::Node& n, const std::string& where)
   }
 }
 
-}  // namespace
-
-PlanarRobotFile loadPlanarRobotFile(const std::string& path) {
-  const YAML::Node root = yaml::loadFile(path);
+/// A planar robot file's document; `path` names it in messages.
+PlanarRobotFile parsePlanar(const YAML::Node& root, const std::string& path) {
   if (!root.IsMap()) throw ParseError(path + ": expected a YAML map at top level");
   if (const YAML::Node t = root["type"]) {
     if (!t.IsScalar() || t.Scalar() != "planar3rpr") {
@@ -78,6 +76,20 @@ PlanarRobotFile loadPlanarRobotFile(const std::string& path) {
     }
   }
   return out;
+}
+
+}  // namespace
+
+PlanarRobotFile loadPlanarRobotFile(const std::string& path) { return parsePlanar(yaml::loadFile(path), path); }
+
+PlanarRobotFile parsePlanarRobotDocument(const std::string& yamlText, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yamlText);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(name + ": invalid YAML: " + e.what());
+  }
+  return parsePlanar(root, name);
 }
 
 }  // namespace io

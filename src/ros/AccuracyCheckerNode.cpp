@@ -294,16 +294,11 @@ bool AccuracyCheckerNode::loadOtherRobot(std::string& error) {
   if (!loadUrdfAnchorNames(pnh_, names_, error)) return false;  // (the base and platform frame names)
   io::ModelFile file;
   if (!loadModelFromParameters(pnh_, robot_type_, file, error)) return false;
-  // The node's requests, responses and frames are those of a 6-dof pose (x, y, z, roll, pitch, yaw) with the Gough
-  // error convention (tool-point displacement and small rotation vector, base frame).
-  const bool convention = model::hasRigidBodyPose(file.description.pose);
-  if (!convention) {
-    std::string pose;
-    for (const model::PoseComponent& c : file.description.pose) pose += (pose.empty() ? "" : ", ") + c.name;
-    error = pnh_.resolveName("robot_type") + ": the node verifies robots whose pose is (x, y, z, roll, pitch, yaw) " +
-            "with the Gough error convention (types gough, rus6, or such a plugin type); " + robot_type_ +
-            " has the pose (" + pose + "): verify it with pkm_verify (docs/models.md)";
-    return false;
+  // A robot whose pose is not the rigid-body pose (x, y, z, roll, pitch, yaw): requests name its own pose
+  // coordinates, and its named workspaces are the file reader's boxes of them.
+  defaults_.pose = file.description.pose;
+  if (!defaults_.rigidBodyPose()) {
+    for (const auto& [name, domain] : file.workspaces) defaults_.workspaces[name].domain = domain;
   }
   model_ = file.model;
   sensor_error_ = file.description.sensor_error;
@@ -355,7 +350,8 @@ bool AccuracyCheckerNode::start(std::string& error) {
   base_frame_ = frame_prefix_ + names_.base_link;
   platform_frame_ = frame_prefix_ + names_.platform_link;
   readDefaults();
-  if (!loadNamedWorkspaces(pnh_, defaults_.workspaces, error)) return false;
+  defaults_.robot_type = robot_type_;
+  if (defaults_.rigidBodyPose() && !loadNamedWorkspaces(pnh_, defaults_.workspaces, error)) return false;
   ROS_INFO("Robot: %s", robotReport().c_str());
 
   tf_buffer_.reset(new tf2_ros::Buffer());
@@ -370,8 +366,7 @@ bool AccuracyCheckerNode::start(std::string& error) {
 
   // /diagnostics (diagnostic_updater: ~diagnostic_period, default 1 s).
   diagnostics_.reset(new diagnostic_updater::Updater(nh_, pnh_));
-  diagnostics_->setHardwareID(robot_file_.empty() ? "gough robot from " + pnh_.getNamespace()
-                                                  : "gough robot from " + robot_file_);
+  diagnostics_->setHardwareID(robot_type_ + " robot from " + (robot_file_.empty() ? pnh_.getNamespace() : robot_file_));
   diagnostics_->add("verification jobs", this, &AccuracyCheckerNode::diagnose);
   diagnostics_timer_ =
       pnh_.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
@@ -433,8 +428,14 @@ bool AccuracyCheckerNode::onDescribe(Describe::Request& /*req*/, Describe::Respo
     res.robot_source = source_;
     res.robot_type = robot_type_;
     if (model_) {
+      res.dof = static_cast<std::uint32_t>(model_->dof());
       for (int j = 0; j < model_->dof(); ++j) res.joints.push_back(model_->jointName(j));
     }
+    for (const model::PoseComponent& c : defaults_.pose) {
+      res.pose_components.push_back(c.name + " [" + c.unit + "]");
+      res.error_components.push_back(c.errorName() + " [" + c.unit + "]");
+    }
+    res.rigid_body_pose = defaults_.rigidBodyPose();
     res.base_frame = base_frame_;
     res.platform_frame = platform_frame_;
     for (const auto& a : robot_.base_anchors) res.base_anchors.push_back(toPoint(a));
@@ -634,8 +635,10 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
                segments ? "polynomial segments" : "waypoints", query.trajectory.times.front(),
                query.trajectory.times.back(), frame.c_str());
     } else {
-      ROS_INFO("%s: job %lu started (%s, %s region in frame %s)", via.c_str(), static_cast<unsigned long>(id),
-               mode.c_str(), toString(query.workspace.position.type).c_str(), frame.c_str());
+      const std::string what = query.pose_domain ? std::string("box of the robot's pose coordinates")
+                                                 : toString(query.workspace.position.type) + " region";
+      ROS_INFO("%s: job %lu started (%s, %s in frame %s)", via.c_str(), static_cast<unsigned long>(id), mode.c_str(),
+               what.c_str(), frame.c_str());
     }
 
     query.record_safe_boxes = static_cast<std::size_t>(max_safe_box_markers_);  // (for ~boxes)
@@ -692,9 +695,10 @@ WorkspaceOutcome AccuracyCheckerNode::runJob(const std::shared_ptr<Job>& job, Wo
       last.unsafe_fraction = outcome.unsafe_fraction;
       last.undecided_fraction = outcome.undecided_fraction;
       last.outside_fraction = outcome.outside_fraction;
-      if (query.mode == QueryMode::MaxError) {
-        last.lower.assign(outcome.lower_bound.begin(), outcome.lower_bound.end());
-        last.upper.assign(outcome.upper_bound.begin(), outcome.upper_bound.end());
+      if (query.mode == QueryMode::MaxError) {  // (the robot's components, as the verifier's snapshots)
+        const auto n = static_cast<std::ptrdiff_t>(std::min(query.components, 6));
+        last.lower.assign(outcome.lower_bound.begin(), outcome.lower_bound.begin() + n);
+        last.upper.assign(outcome.upper_bound.begin(), outcome.upper_bound.begin() + n);
       }
       progress_pub_.publish(last);
     }

@@ -204,6 +204,11 @@ visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& q, const Wo
   const Placement placement(q);
   auto marker = [&](const char* ns, int id, int type) { return newMarker(base_frame, stamp, ns, id, type); };
   array.markers.push_back(deleteAll(base_frame, stamp));
+  if (q.pose_domain) {
+    // A robot's own pose coordinates are no positions of the base frame: only the label, at the origin.
+    addLabel(o, placement, base_frame, stamp, Eigen::Vector3d::Zero(), 1.0, "box(es)", array);
+    return array;
+  }
   Eigen::Vector3d lo, hi;
   q.workspace.position.boundingBox(lo, hi);
   const Eigen::Vector3d size = hi - lo, centre = 0.5 * (lo + hi);

@@ -86,7 +86,12 @@ std::unique_ptr<domain::ParametricVariety> toVariety(const VarietySpec& spec) {
   return std::make_unique<domain::ParametricVariety>(spec.parameters, spec.coordinates);
 }
 
-std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query) {
+std::shared_ptr<const domain::Domain> toDomain(const WorkspaceQuery& query) {
+  if (query.domain == QueryDomain::Workspace && query.pose_domain) {
+    if (query.has_transform)
+      throw InvalidArgument("frame_id \"" + query.frame_id + "\": the robot's own pose coordinates");
+    return query.pose_domain;
+  }
   std::unique_ptr<domain::Domain> inFrame = inOwnFrame(query);
   if (!query.has_transform) return inFrame;
   domain::RigidTransform t;
@@ -103,8 +108,8 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
   verify::VerifierOptions o;
   o.mode = q.mode == QueryMode::MaxError ? verify::Mode::MaxError : verify::Mode::Verify;
   if (q.has_thresholds) {
-    o.thresholds = DVec(6);
-    for (int k = 0; k < 6; ++k) {
+    o.thresholds = DVec(q.components);
+    for (int k = 0; k < q.components; ++k) {
       const double t = q.thresholds[static_cast<std::size_t>(k)];
       o.thresholds[k] = t == kInf ? std::numeric_limits<double>::max() : t;
     }
@@ -120,7 +125,7 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
     } else if (q.domain == QueryDomain::Variety) {
       o.min_width = DVec::Constant(q.variety.parameters, q.min_width);  // the parameters themselves
     } else {
-      o.min_width = DVec::Constant(6, q.min_width);
+      o.min_width = DVec::Constant(q.pose_domain ? q.pose_domain->variables() : 6, q.min_width);
     }
   }
   o.time_limit_s = q.time_budget;
@@ -132,9 +137,7 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
   } else {
     o.geometry_splitting = verify::GeometrySplitting::Auto;
   }
-  o.tuning.stall_levels = q.stall_levels;
   if (q.domain == QueryDomain::Workspace) o.max_recorded_safe_boxes = q.record_safe_boxes;
-  o.tuning.decompose_geometry = q.geometry_form == "decomposed";
   o.cancel = hooks.cancel;
   o.progress = hooks.progress;
   o.progress_period_s = hooks.progress_period_s;
@@ -144,21 +147,27 @@ verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& q, const JobHook
 WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery& q, const model::RobotModel& model) {
   WorkspaceOutcome out;
   out.success = true;
+  out.rigid_body_pose = q.rigid_body_pose;
   out.message = r.message;
   out.verdict = verify::toString(r.verdict);
   out.reason = r.verdict == verify::Verdict::Undecided ? verify::toString(r.reason) : "";
 
   // Bounds on the maximal errors: the verifier's enclosure in max_error mode; in verify mode only what the verdict
-  // itself proves (documented in srv/VerifyWorkspace.srv).
+  // itself proves (documented in srv/VerifyWorkspace.srv). A robot's n components come first, then zeros.
+  const int n = q.components;
+  const auto N = static_cast<std::size_t>(n);
   out.lower_bound.fill(0.0);
-  out.upper_bound.fill(kInf);
+  out.upper_bound.fill(0.0);
+  for (std::size_t k = 0; k < N && k < 6; ++k) out.upper_bound[k] = kInf;
 
   // The pose at a point of the box variables, for the response: a workspace's variables are its poses in the
   // query's frame; a trajectory's or variety's pose is the midpoint of the verifier's certified enclosure of the
   // base-frame pose there (`basePose`), or, in another frame or where the verifier gives none, of the domain's own
   // pose (in the query's frame).
   const bool workspace = q.domain == QueryDomain::Workspace;
-  const int variables = workspace ? 6 : q.domain == QueryDomain::Trajectory ? 1 : q.variety.parameters;
+  const int variables = workspace                             ? (q.pose_domain ? q.pose_domain->variables() : 6)
+                        : q.domain == QueryDomain::Trajectory ? 1
+                                                              : q.variety.parameters;
   const std::unique_ptr<domain::Domain> own = workspace ? nullptr : inOwnFrame(q);
   const auto poseAt = [&](const DVec& point, const IVec& basePose) {
     std::array<double, 6> out{};
@@ -205,10 +214,10 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     // With uncertain geometry: the geometry attaining each lower bound. A component whose bound holds for every
     // geometry (the verifier leaves its row empty) is attained by any: the centre geometry is reported.
     const int params = model.geometryParameterCount();
-    if (params > 0 && r.max_argmax_geometry.size() == 6) {
+    if (params > 0 && r.max_argmax_geometry.size() == N) {
       const auto P = static_cast<std::size_t>(params);
       out.lower_bound_geometries.assign(6 * P, 0.0);
-      for (std::size_t k = 0; k < 6; ++k) {
+      for (std::size_t k = 0; k < N && k < 6; ++k) {
         const std::vector<double>& g = r.max_argmax_geometry[k];
         for (std::size_t p = 0; p < P; ++p) {
           out.lower_bound_geometries[P * k + p] =
@@ -218,7 +227,7 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     }
   } else {
     if (r.verdict == verify::Verdict::Safe) out.upper_bound = q.thresholds;
-    if (r.witness_error_lower.size() == 6) copy6(r.witness_error_lower, out.lower_bound);
+    if (r.witness_error_lower.size() == n) copy6(r.witness_error_lower, out.lower_bound);
   }
 
   const bool witness = r.witness.size() == variables && (workspace || r.witness_pose.size() == 6);
@@ -228,24 +237,24 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
     if (q.domain == QueryDomain::Trajectory) out.witness_t = q.trajectory.timeOf(r.witness[0]);  // the variable is u
     if (q.domain == QueryDomain::Variety) append(r.witness, out.witness_parameters);
     out.witness_component = r.witness_component;
-    if (r.witness_error_lower.size() == 6) {
+    if (r.witness_error_lower.size() == n) {
       copy6(r.witness_error_lower, out.witness_error);
     } else {
       IVec f;
-      if (enclosure::errorAtPose(model, r.witness_pose, f) && f.size() == 6) {
-        for (int k = 0; k < 6; ++k) out.witness_error[static_cast<std::size_t>(k)] = f[k].lower();
+      if (enclosure::errorAtPose(model, r.witness_pose, f) && f.size() == n) {
+        for (int k = 0; k < n && k < 6; ++k) out.witness_error[static_cast<std::size_t>(k)] = f[k].lower();
       }
     }
     auto& e = out.witness_error[static_cast<std::size_t>(r.witness_component)];
     e = std::max(e, r.witness_lower_bound);
   }
 
-  if (r.singular && r.singular_pose_from.size() == 6 && r.singular_pose_to.size() == 6) {
+  if (r.singular && r.singular_pose_from.size() == n && r.singular_pose_to.size() == n) {
     out.singular = true;
     // (Like the witness, through poseAt(); the certified base-frame poses where the points are missing.)
     const bool points = r.singular_from.size() == variables && r.singular_to.size() == variables;
     std::array<double, 6> from{}, to{};
-    for (int i = 0; i < 6; ++i) {
+    for (int i = 0; i < n && i < 6; ++i) {
       from[static_cast<std::size_t>(i)] = r.singular_pose_from[i].mid();
       to[static_cast<std::size_t>(i)] = r.singular_pose_to[i].mid();
     }
@@ -371,7 +380,7 @@ WorkspaceOutcome toOutcome(const verify::VerifierResult& r, const WorkspaceQuery
 }
 
 WorkspaceOutcome runWorkspaceQuery(const model::RobotModel& model, const WorkspaceQuery& query, const JobHooks& hooks) {
-  const std::unique_ptr<domain::Domain> domain = toDomain(query);
+  const std::shared_ptr<const domain::Domain> domain = toDomain(query);
   const verify::VerifierOptions options = toVerifierOptions(query, hooks);
   const verify::VerifierResult result = verify::Verifier::run(model, *domain, options);
   return toOutcome(result, query, model);

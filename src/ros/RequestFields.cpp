@@ -105,31 +105,27 @@ bool method(const std::string& requested, const std::string& dflt, std::string& 
   return false;
 }
 
+std::string errorNames(const std::vector<model::PoseComponent>& pose) {
+  std::string names;
+  for (const model::PoseComponent& c : pose) names += (names.empty() ? "" : ", ") + c.errorName();
+  return names;
+}
+
+std::string rigidBodyOnly(const QueryDefaults& defaults, const char* service) {
+  if (defaults.rigidBodyPose()) return "";
+  std::string pose;
+  for (const model::PoseComponent& c : defaults.pose) pose += (pose.empty() ? "" : ", ") + c.name;
+  return std::string(service) + ": the loaded robot, type " + defaults.robot_type + ", has the pose (" + pose +
+         "), not the rigid-body pose (x, y, z, roll, pitch, yaw) that " + service +
+         " needs; verify its workspaces with verify_workspace (named or pose_min / pose_max)";
+}
+
 bool geometrySplitting(const std::string& requested, std::string& out, std::string& error) {
   if (requested.empty() || requested == "auto" || requested == "never" || requested == "always") {
     out = requested.empty() ? "auto" : requested;
     return true;
   }
   error = "geometry_splitting: expected \"auto\", \"never\", \"always\" or \"\" (auto), got \"" + requested + "\"";
-  return false;
-}
-
-bool geometryForm(const std::string& requested, std::string& out, std::string& error) {
-  if (requested.empty() || requested == "combined" || requested == "decomposed") {
-    out = requested.empty() ? "decomposed" : requested;
-    return true;
-  }
-  error = "geometry_form: expected \"decomposed\", \"combined\" or \"\" (decomposed), got \"" + requested + "\"";
-  return false;
-}
-
-bool stallLevels(std::int32_t requested, int& out, std::string& error) {
-  if (requested >= 0 && requested <= kMaxStallLevels) {
-    out = static_cast<int>(requested);
-    return true;
-  }
-  error = "stall_levels: expected 0 (half the number of box variables, at least 2) to " +
-          std::to_string(kMaxStallLevels) + ", got " + std::to_string(requested);
   return false;
 }
 

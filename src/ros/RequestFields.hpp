@@ -3,10 +3,12 @@
 // given. Internal to the ROS layer.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Quaternion.h>
@@ -55,25 +57,32 @@ bool method(const std::string& requested, const std::string& dflt, std::string& 
 /// `geometry_splitting`: "" (= "auto"), "auto", "never" or "always"; `out` gets the name ("" becomes "auto").
 bool geometrySplitting(const std::string& requested, std::string& out, std::string& error);
 
-/// `geometry_form`: "" (= "decomposed"), "decomposed" or "combined"; `out` gets the name ("" becomes "decomposed").
-bool geometryForm(const std::string& requested, std::string& out, std::string& error);
-/// `stall_levels`: 0 (half the number of box variables, at least 2) to kMaxStallLevels.
-bool stallLevels(std::int32_t requested, int& out, std::string& error);
-constexpr std::int32_t kMaxStallLevels = 1000;
+/// The error components of a robot as the messages name them: "dx, dy, dz".
+std::string errorNames(const std::vector<model::PoseComponent>& pose);
 
-/// `thresholds`: six numbers > 0 (m, m, m, rad, rad, rad; +inf allowed); in max_error mode all six may be 0
-/// ("none given", then `given` is false).
+/// `thresholds`: one number > 0 per error component of the robot (`pose`, n of them: entries 0 .. n-1, in the unit of
+/// their component; +inf allowed) and 0 in the entries n .. 5 (`type` names the robot in that message); in max_error
+/// mode all six may be 0 ("none given", then `given` is false).
 template <class Array>
-bool thresholds(const Array& requested, bool maxError, std::array<double, 6>& out, bool& given, std::string& error) {
-  static const char* const kComponent[6] = {"dx", "dy", "dz", "drx", "dry", "drz"};
+bool thresholds(const Array& requested, bool maxError, const std::vector<model::PoseComponent>& pose,
+                const std::string& type, std::array<double, 6>& out, bool& given, std::string& error) {
+  const std::size_t n = std::min<std::size_t>(pose.size(), 6);
   bool allZero = true;
   for (double t : requested) allZero = allZero && t == 0.0;
+  out.fill(0.0);
+  for (std::size_t k = n; k < 6; ++k) {
+    if (requested[k] == 0.0) continue;
+    error = idx("thresholds", k) + ": expected 0 (robot type " + type + " has " + std::to_string(n) +
+            " error components, " + errorNames(pose) + ": entries " + std::to_string(n) + " to 5 are unused), got " +
+            num(requested[k]);
+    return false;
+  }
   given = !(maxError && allZero);
   if (!given) return true;
-  for (std::size_t k = 0; k < 6; ++k) {
+  for (std::size_t k = 0; k < n; ++k) {
     const double t = requested[k];
     if (!(t > 0.0)) {  // also rejects NaN; +inf is allowed
-      error = idx("thresholds", k) + " (" + kComponent[k] + "): expected a number > 0 (" + (k < 3 ? "m" : "rad") +
+      error = idx("thresholds", k) + " (" + pose[k].errorName() + "): expected a number > 0 (" + pose[k].unit +
               ") or .inf" + (maxError ? " (or all 0 in mode max_error)" : "") + ", got " + num(t);
       return false;
     }
@@ -81,6 +90,10 @@ bool thresholds(const Array& requested, bool maxError, std::array<double, 6>& ou
   }
   return true;
 }
+
+/// For a robot whose pose is not the rigid-body pose (`defaults.pose`), the refusal of a /verify_trajectory or
+/// /verify_variety request (`service`), naming the robot's type and the service; "" for a rigid-body robot.
+std::string rigidBodyOnly(const QueryDefaults& defaults, const char* service);
 
 /// `frame_id` as tf2 names it (tf2 drops a leading '/', so "/base_link" is "base_link"), or "" for the base frame.
 inline std::string frameId(const std::string& requested, const std::string& base_frame) {
@@ -103,12 +116,16 @@ inline bool mode(const std::string& requested, QueryMode& out, std::string& erro
 }
 
 /// The options every request (and goal) shares, after `mode`: thresholds, alpha,
-/// time_budget, threads, method, geometry_splitting, stall_levels, geometry_form (min_width differs in unit: the
-/// caller reads it).
+/// time_budget, threads, method, geometry_splitting (min_width differs in unit: the caller reads it).
 /// @return false with `error` naming the field.
 template <class Request>
 bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQuery& q, std::string& error) {
-  if (!thresholds(req.thresholds, q.mode == QueryMode::MaxError, q.thresholds, q.has_thresholds, error)) return false;
+  q.components = static_cast<int>(defaults.pose.size());
+  q.rigid_body_pose = defaults.rigidBodyPose();
+  if (!thresholds(req.thresholds, q.mode == QueryMode::MaxError, defaults.pose, defaults.robot_type, q.thresholds,
+                  q.has_thresholds, error)) {
+    return false;
+  }
   if (!option(req.alpha, defaults.alpha, "alpha", "a finite number >= 0 (relative, 0 = default)", q.alpha, error) ||
       !option(req.time_budget, defaults.time_budget, "time_budget", "a finite number >= 0 (s, 0 = default)",
               q.time_budget, error)) {
@@ -117,13 +134,11 @@ bool sharedOptions(const Request& req, const QueryDefaults& defaults, WorkspaceQ
   if (!threads(req.threads, error)) return false;
   q.threads = req.threads;
   if (!method(req.method, defaults.method, q.method, error)) return false;
-  return geometrySplitting(req.geometry_splitting, q.geometry_splitting, error) &&
-         stallLevels(req.stall_levels, q.stall_levels, error) &&
-         geometryForm(req.geometry_form, q.geometry_form, error);
+  return geometrySplitting(req.geometry_splitting, q.geometry_splitting, error);
 }
 
 /// Copies the options every request and action goal has (thresholds, mode, alpha, time_budget, min_width, threads,
-/// method, frame_id, geometry_splitting, stall_levels, geometry_form) from `from` to `to`, field for field.
+/// method, frame_id, geometry_splitting) from `from` to `to`, field for field.
 template <class From, class To>
 void copyOptions(const From& from, To& to) {
   to.thresholds = from.thresholds;
@@ -135,8 +150,6 @@ void copyOptions(const From& from, To& to) {
   to.method = from.method;
   to.frame_id = from.frame_id;
   to.geometry_splitting = from.geometry_splitting;
-  to.stall_levels = from.stall_levels;
-  to.geometry_form = from.geometry_form;
 }
 
 /// The fields that every response, action result and the ~verdict message share, from a
@@ -157,9 +170,9 @@ void fillCommonResponse(const Outcome& o, Response& res) {
   res.converged = o.converged;
   res.lower_bound_geometries = o.lower_bound_geometries;
   res.has_witness = o.has_witness;
-  res.witness = o.has_witness ? poseMsg(o.witness_pose) : identityPose();
+  res.witness = o.has_witness && o.rigid_body_pose ? poseMsg(o.witness_pose) : identityPose();
   res.argmax_poses.clear();
-  for (std::size_t row = 0; row + 6 <= o.lower_bound_poses.size(); row += 6) {
+  for (std::size_t row = 0; o.rigid_body_pose && row + 6 <= o.lower_bound_poses.size(); row += 6) {
     std::array<double, 6> pose{};
     for (std::size_t k = 0; k < 6; ++k) pose[k] = o.lower_bound_poses[row + k];
     res.argmax_poses.push_back(poseMsg(pose));

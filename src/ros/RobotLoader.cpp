@@ -761,8 +761,11 @@ bool loadModelFromParameters(const ros::NodeHandle& nh, const std::string& type,
             "; a plugin's types need ~plugins)";
     return false;
   }
-  // The keys a robot file of this type has (workspaces aside): every geometry group, sensor_error, uncertainty.
+  // The keys a robot file of this type has: every geometry group, sensor_error, uncertainty; and the workspaces of a
+  // type whose pose is not the rigid-body pose (boxes of its own pose coordinates; a rigid-body robot's workspaces
+  // have position regions: loadNamedWorkspaces()).
   std::set<std::string> keys = {"sensor_error", "uncertainty"};
+  if (!model::hasRigidBodyPose(t->description.pose)) keys.insert("workspaces");
   for (const model::GeometryValue& g : t->description.geometry)
     keys.insert(g.name.substr(0, g.name.find_first_of("[.")));
   std::ostringstream yaml;

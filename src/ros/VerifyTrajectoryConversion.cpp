@@ -259,6 +259,8 @@ bool oneForm(const VerifyTrajectory::Request& req, std::string& error) {
 
 bool fromRequest(const VerifyTrajectory::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
                  WorkspaceQuery& out, std::string& error) {
+  error = fields::rigidBodyOnly(defaults, "verify_trajectory");
+  if (!error.empty()) return false;
   WorkspaceQuery q;
   q.domain = QueryDomain::Trajectory;
   if (!fields::mode(req.mode, q.mode, error)) return false;

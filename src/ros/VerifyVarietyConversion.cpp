@@ -52,6 +52,8 @@ bool readTerms(const std::vector<VarietyTerm>& terms, const char* name, const ch
 
 bool fromRequest(const VerifyVariety::Request& req, const std::string& base_frame, const QueryDefaults& defaults,
                  WorkspaceQuery& out, std::string& error) {
+  error = fields::rigidBodyOnly(defaults, "verify_variety");
+  if (!error.empty()) return false;
   WorkspaceQuery q;
   q.domain = QueryDomain::Variety;
   // Another frame is looked up in tf2 by the node when the job starts (an unknown one is refused then).

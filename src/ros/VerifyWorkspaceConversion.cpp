@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pkm_accuracy/core/Exceptions.hpp"
+#include "pkm_accuracy/core/domain/PoseBox.hpp"
 #include "pkm_accuracy/core/domain/PositionRegion.hpp"
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/enclosure/ErrorEnclosure.hpp"
@@ -155,7 +156,9 @@ std::string setRegionField(const VerifyWorkspace::Request& req) {
 /// The workspace named by req.workspace (QueryDefaults::workspaces), in the base frame.
 bool readNamedWorkspace(const VerifyWorkspace::Request& req, const std::string& base_frame,
                         const QueryDefaults& defaults, WorkspaceQuery& q, std::string& error) {
-  const std::string field = setRegionField(req);
+  std::string field = setRegionField(req);
+  if (field.empty() && !req.pose_min.empty()) field = "pose_min";
+  if (field.empty() && !req.pose_max.empty()) field = "pose_max";
   if (!field.empty()) {
     error = field + ": expected it unset (\"\", 0 or empty) with a named workspace (workspace \"" + req.workspace +
             "\"): a request gives its workspace either by name or by its fields";
@@ -183,9 +186,90 @@ bool readNamedWorkspace(const VerifyWorkspace::Request& req, const std::string& 
     return false;
   }
   q.workspace = it->second.spec;
+  q.pose_domain = it->second.domain;
   q.workspace_name = req.workspace;
   q.frame_id.clear();
   return true;
+}
+
+/// The robot's pose coordinates with their units, as ~describe's pose_components: "x [m]", ...
+std::vector<std::string> poseNames(const QueryDefaults& defaults) {
+  std::vector<std::string> names;
+  for (const model::PoseComponent& c : defaults.pose) names.push_back(c.name + " [" + c.unit + "]");
+  return names;
+}
+
+/// The workspace of a request by pose_min / pose_max: one finite range per pose coordinate of the robot. A rigid-body
+/// robot's box becomes a box region with angle ranges (in frame_id); another robot's a domain::PoseBox of its own
+/// coordinates (base frame only).
+bool readPoseBox(const VerifyWorkspace::Request& req, const QueryDefaults& defaults, WorkspaceQuery& q,
+                 std::string& error) {
+  const std::string field = setRegionField(req);
+  if (!field.empty()) {
+    error = field + ": expected it unset (\"\", 0 or empty) with pose_min / pose_max: a request gives its workspace " +
+            "by name, as a position region with angle ranges, or as a box of the pose coordinates";
+    return false;
+  }
+  const std::vector<std::string> names = poseNames(defaults);
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  for (const auto& [values, name] :
+       {std::make_pair(&req.pose_min, "pose_min"), std::make_pair(&req.pose_max, "pose_max")}) {
+    if (values->size() == names.size()) continue;
+    error = std::string(name) + ": expected " + std::to_string(names.size()) +
+            " numbers, one per pose coordinate of robot type " + defaults.robot_type + " (" + list +
+            ", ~describe's pose_components), got " + std::to_string(values->size());
+    return false;
+  }
+  IVec box(static_cast<int>(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const char* unit = defaults.pose[k].unit.c_str();
+    if (!ordered(req.pose_min[k], req.pose_max[k], idx("pose_min", k), idx("pose_max", k), unit, error)) return false;
+    box[static_cast<int>(k)] = Interval(req.pose_min[k], req.pose_max[k]);
+  }
+  if (!defaults.rigidBodyPose()) {
+    if (!q.frame_id.empty()) {
+      error = "frame_id: expected \"\" or the base frame with a robot of type " + defaults.robot_type + " (its pose (" +
+              list + ") is in its own coordinates, which another frame does not transform), got \"" + req.frame_id +
+              "\"";
+      return false;
+    }
+    try {
+      q.pose_domain = std::make_shared<domain::PoseBox>(names, box);
+    } catch (const InvalidArgument& e) {
+      error = std::string("pose_min, pose_max: ") + e.what();
+      return false;
+    }
+    return true;
+  }
+  for (int k = 0; k < 3; ++k) {
+    q.workspace.position.box_min[k] = req.pose_min[static_cast<std::size_t>(k)];
+    q.workspace.position.box_max[k] = req.pose_max[static_cast<std::size_t>(k)];
+  }
+  for (std::size_t k = 3; k < 6; ++k) {
+    for (const auto& [value, name] :
+         {std::make_pair(req.pose_min[k], "pose_min"), std::make_pair(req.pose_max[k], "pose_max")}) {
+      if (std::fabs(value) > domain::Workspace::kMaxAngle) {
+        error = idx(name, k) + ": expected an angle within [-2 pi, 2 pi] (rad; angles are periodic, so such a range " +
+                "covers every orientation), got " + num(value);
+        return false;
+      }
+    }
+    q.workspace.angle_min[static_cast<int>(k) - 3] = req.pose_min[k];
+    q.workspace.angle_max[static_cast<int>(k) - 3] = req.pose_max[k];
+  }
+  return true;
+}
+
+/// A robot whose pose is not the rigid-body pose has no position region: the refusal of a request giving neither a
+/// name nor pose_min / pose_max.
+std::string noPoseWorkspace(const VerifyWorkspace::Request& req, const QueryDefaults& defaults) {
+  std::string list;
+  for (const std::string& n : poseNames(defaults)) list += (list.empty() ? "" : ", ") + n;
+  const std::string field = setRegionField(req);
+  return (field.empty() ? std::string("pose_min, pose_max") : field) + ": robot type " + defaults.robot_type +
+         " has the pose (" + list + "), not the rigid-body pose of the region and angle fields: give its workspace " +
+         "by name (workspace) or as a box of its pose coordinates (pose_min, pose_max)";
 }
 
 }  // namespace
@@ -197,6 +281,11 @@ bool fromRequest(const VerifyWorkspace::Request& req, const std::string& base_fr
   if (!fields::mode(req.mode, q.mode, error)) return false;
   if (!req.workspace.empty()) {
     if (!readNamedWorkspace(req, base_frame, defaults, q, error)) return false;
+  } else if (!req.pose_min.empty() || !req.pose_max.empty()) {
+    if (!readPoseBox(req, defaults, q, error)) return false;
+  } else if (!defaults.rigidBodyPose()) {
+    error = noPoseWorkspace(req, defaults);
+    return false;
   } else {
     if (!readRegion(req, q.workspace.position, error)) return false;
     const double angle_min[3] = {req.roll_min, req.pitch_min, req.yaw_min};
@@ -272,6 +361,8 @@ VerifyWorkspace::Request toRequest(const VerifyWorkspaceGoal& g) {
   r.pitch_max = g.pitch_max;
   r.yaw_min = g.yaw_min;
   r.yaw_max = g.yaw_max;
+  r.pose_min = g.pose_min;
+  r.pose_max = g.pose_max;
   fields::copyOptions(g, r);
   return r;
 }
@@ -320,6 +411,14 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
         msg.workspace_max[k] = std::max(msg.workspace_max[k], p[k]);
       }
     }
+  } else if (q.pose_domain) {
+    // A robot's own pose coordinates: region_type "pose_box", workspace_min / max = the domain's box of them.
+    msg.region_type = "pose_box";
+    const IVec& box = q.pose_domain->initialBox();
+    for (int k = 0; k < 6 && k < box.size(); ++k) {
+      msg.workspace_min[static_cast<std::size_t>(k)] = box[k].lower();
+      msg.workspace_max[static_cast<std::size_t>(k)] = box[k].upper();
+    }
   } else {
     msg.region_type = toString(q.workspace.position.type);
     Eigen::Vector3d lo, hi;
@@ -337,8 +436,6 @@ void toResultMessage(const WorkspaceQuery& q, const std::string& method, const W
   msg.min_width = q.min_width;
   msg.threads_requested = q.threads;
   msg.geometry_splitting = q.geometry_splitting;
-  msg.stall_levels = q.stall_levels;
-  msg.geometry_form = q.geometry_form;
 
   fields::fillCommonResponse(o, msg);
   for (std::size_t k = 0; k < 6; ++k) {

@@ -115,8 +115,8 @@ TEST(Action, GoalAndResultAreTheServicesRequestAndResponse) {
   r.method = "precond";
   r.frame_id = "somewhere";
   r.geometry_splitting = "always";
-  r.stall_levels = 14;
-  r.geometry_form = "decomposed";
+  r.pose_min = {14.5, 15.5};
+  r.pose_max = {16.5};
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
   const pkm_accuracy::ros_layer::WorkspaceOutcome o = filledOutcome();
@@ -176,11 +176,12 @@ TEST(Action, InvalidGoalsAreRejectedNamingTheField) {
 
   // The geometric-uncertainty options are checked as the service's.
   req = smallRequest(kGenerous);
-  req.stall_levels = -3;
+  req.geometry_splitting = "sometimes";
   state = client().sendGoalAndWait(goalOf(req), ros::Duration(10.0));
   EXPECT_EQ(state, State::REJECTED) << state.toString();
   ASSERT_TRUE(client().getResult());
-  EXPECT_NE(client().getResult()->message.find("stall_levels"), std::string::npos) << client().getResult()->message;
+  EXPECT_NE(client().getResult()->message.find("geometry_splitting"), std::string::npos)
+      << client().getResult()->message;
 
   // A frame unknown to tf2: rejected after the lookup (which happens before the goal takes a job slot), naming it.
   req = smallRequest(kGenerous);

@@ -154,7 +154,6 @@ TEST(VerifyWorkspace, BadRequestsAreRefusedNamingTheFieldAndTheNodeSurvives) {
       {"min_width", [](VerifyWorkspace::Request& r) { r.min_width = kNaN; }},
       {"frame_id", [](VerifyWorkspace::Request& r) { r.frame_id = "world"; }},
       {"geometry_splitting", [](VerifyWorkspace::Request& r) { r.geometry_splitting = "sometimes"; }},
-      {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = -1; }},
   };
   for (const auto& c : cases) {
     VerifyWorkspace::Request req = paperRequest();

@@ -3,6 +3,7 @@
 // does when it reads the same file (io::loadModelFile, independent of the parameter server).
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -27,6 +28,12 @@ TEST(RobotTypes, DescribeNamesTheTypeItsJointsAndSensorErrors) {
   const auto& r = srv.response;
   ASSERT_TRUE(r.success) << r.message;
   EXPECT_EQ(r.robot_type, "rus6");
+  EXPECT_EQ(r.dof, 6u);
+  EXPECT_TRUE(r.rigid_body_pose);
+  EXPECT_EQ(r.pose_components,
+            (std::vector<std::string>{"x [m]", "y [m]", "z [m]", "roll [rad]", "pitch [rad]", "yaw [rad]"}));
+  EXPECT_EQ(r.error_components,
+            (std::vector<std::string>{"dx [m]", "dy [m]", "dz [m]", "drx [rad]", "dry [rad]", "drz [rad]"}));
   ASSERT_EQ(r.joints.size(), 6u);
   EXPECT_EQ(r.joints[2], "crank_2 [rad]");
   const pkm_accuracy::io::ModelFile file = pkm_accuracy::io::loadModelFile(kFile);
@@ -69,6 +76,41 @@ TEST(RobotTypes, MaxErrorOverTheNamedWorkspaceMatchesTheCore) {
   for (int k = 0; k < 6; ++k) v.request.thresholds[k] = 0.95 * core.max_lower[k];
   ASSERT_TRUE(ros::service::call("/verify_workspace", v));
   EXPECT_EQ(v.response.verdict, "UNSAFE") << v.response.message;
+}
+
+TEST(RobotTypes, APoseBoxIsTheBoxRegionWithItsAngleRanges) {
+  // pose_min / pose_max (x, y, z, roll, pitch, yaw) of the reference workspace: the same search as the named one
+  // (one thread), whose box region and angle ranges they are.
+  const pkm_accuracy::io::ModelFile file = pkm_accuracy::io::loadModelFile(kFile);
+  const pkm_accuracy::IVec& box = file.workspaces.at("reference")->initialBox();
+  ASSERT_TRUE(ros::service::waitForService("/verify_workspace", ros::Duration(20.0)));
+  VerifyWorkspace named;
+  named.request.workspace = "reference";
+  named.request.mode = "max_error";
+  named.request.alpha = 0.05;
+  named.request.threads = 1;
+  VerifyWorkspace byBox;
+  byBox.request = named.request;
+  byBox.request.workspace.clear();
+  for (int i = 0; i < 6; ++i) {
+    byBox.request.pose_min.push_back(box[i].lower());
+    byBox.request.pose_max.push_back(box[i].upper());
+  }
+  ASSERT_TRUE(ros::service::call("/verify_workspace", named));
+  ASSERT_TRUE(ros::service::call("/verify_workspace", byBox));
+  ASSERT_TRUE(named.response.success) << named.response.message;
+  ASSERT_TRUE(byBox.response.success) << byBox.response.message;
+  EXPECT_EQ(byBox.response.boxes, named.response.boxes);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(byBox.response.lower_bound[k], named.response.lower_bound[k]) << k;
+    EXPECT_EQ(byBox.response.upper_bound[k], named.response.upper_bound[k]) << k;
+  }
+  EXPECT_EQ(byBox.response.argmax_poses.size(), 6u);  // (a rigid-body pose)
+  // A wrong length is refused naming the field.
+  byBox.request.pose_max.pop_back();
+  ASSERT_TRUE(ros::service::call("/verify_workspace", byBox));
+  EXPECT_FALSE(byBox.response.success);
+  EXPECT_NE(byBox.response.message.find("pose_max"), std::string::npos) << byBox.response.message;
 }
 
 }  // namespace

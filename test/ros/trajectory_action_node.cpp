@@ -89,8 +89,6 @@ TEST(TrajectoryAction, GoalAndResultAreTheServicesRequestAndResponse) {
   r.polynomial_segments[1].t = {3.5, 4.5};
   r.polynomial_segments[1].yaw = {5.5, 6.5, 7.5};
   r.geometry_splitting = "never";
-  r.stall_levels = 14;
-  r.geometry_form = "decomposed";
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(goalOf(r))), bytes(r));
 
   const pkm_accuracy::ros_layer::WorkspaceOutcome o = filledOutcome();

@@ -289,8 +289,8 @@ TEST(VerifyVariety, MalformedFieldsAreRefusedByNameAndTheNodeKeepsServing) {
   r.method = "guess";
   expectRefused(r, "method");
   r = surface(generous);
-  r.geometry_form = "flat";
-  expectRefused(r, "geometry_form");
+  r.geometry_splitting = "flat";
+  expectRefused(r, "geometry_splitting");
 
   // An unknown frame: success false naming frame_id (the lookup comes before the request becomes a job: no number).
   r = surface(generous);
@@ -383,8 +383,6 @@ TEST(VarietyAction, GoalAndResultAreTheServicesRequestAndResponse) {
   r.method = "precond";
   r.frame_id = "somewhere";
   r.geometry_splitting = "never";
-  r.stall_levels = 14;
-  r.geometry_form = "combined";
   EXPECT_EQ(bytes(pkm_accuracy::ros_layer::toRequest(convert<VerifyVarietyGoal>(r))), bytes(r));
   const pkm_accuracy::ros_layer::WorkspaceOutcome o = pkm_accuracy_test::filledOutcome();
   VerifyVariety::Response res;

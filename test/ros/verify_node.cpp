@@ -89,7 +89,6 @@ TEST(VerifyWorkspace, SafeWithGenerousThresholds) {
   for (const char* splitting : {"auto", "never", "always"}) {
     auto other = req;
     other.geometry_splitting = splitting;
-    other.stall_levels = 3;
     const auto o = verify(other);
     ASSERT_TRUE(o.success) << splitting << ": " << o.message;
     EXPECT_EQ(o.verdict, "SAFE") << splitting;
@@ -319,8 +318,6 @@ TEST(VerifyWorkspace, VerdictIsLatched) {
   }
   EXPECT_EQ(v.message, r.message);
   EXPECT_EQ(v.geometry_splitting, "auto");  // "" in the request
-  EXPECT_EQ(v.stall_levels, 0);
-  EXPECT_EQ(v.geometry_form, "decomposed");  // "" in the request
   EXPECT_EQ(v.sensitive_poses, 0u);
   EXPECT_EQ(v.sensitive_component, -1);
 }
@@ -465,10 +462,6 @@ TEST(VerifyWorkspace, EveryMalformedFieldIsRefusedNamingItAndTheNodeKeepsServing
       {"method", [](VerifyWorkspace::Request& r) { r.method = "magic"; }},
       {"geometry_splitting", [](VerifyWorkspace::Request& r) { r.geometry_splitting = "sometimes"; }},
       {"geometry_splitting", [](VerifyWorkspace::Request& r) { r.geometry_splitting = "Auto"; }},
-      {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = -1; }},
-      {"stall_levels", [](VerifyWorkspace::Request& r) { r.stall_levels = 1001; }},
-      {"geometry_form", [](VerifyWorkspace::Request& r) { r.geometry_form = "split"; }},
-      {"geometry_form", [](VerifyWorkspace::Request& r) { r.geometry_form = "Combined"; }},
   };
   for (const auto& c : cases) {
     VerifyWorkspace::Request req = smallRequest(kGenerous);

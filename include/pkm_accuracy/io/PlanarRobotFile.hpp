@@ -32,6 +32,8 @@ struct PlanarRobotFile {
 /// @throws ParseError (file missing, YAML syntax, wrong structure: the message names the file and key) or
 ///         InvalidGeometry / InvalidArgument for values that parse but are invalid.
 PlanarRobotFile loadPlanarRobotFile(const std::string& path);
+/// The same from a YAML document held in a string (e.g. the node's parameters); `name` stands for the file name.
+PlanarRobotFile parsePlanarRobotDocument(const std::string& yamlText, const std::string& name);
 
 }  // namespace io
 }  // namespace pkm_accuracy

@@ -133,8 +133,9 @@ class AccuracyCheckerNode {
   std::string robotReport() const;
   /// Loads the libraries of ~plugins (robot types; io::loadModelPlugin).
   bool loadPlugins(std::string& error);
-  /// A robot of another type than gough from the parameters (loadModelFromParameters); only 6-dof types with the
-  /// Gough pose and error convention: the node's requests and responses are those.
+  /// A robot of another type than gough from the parameters (loadModelFromParameters); a type whose pose is not the
+  /// rigid-body pose also brings its named workspaces (boxes of its pose coordinates) and sets the pose coordinates
+  /// that requests name (QueryDefaults::pose).
   bool loadOtherRobot(std::string& error);
   bool onDescribe(Describe::Request& req, Describe::Response& res);
   bool onVerifyWorkspace(Event<VerifyWorkspace>& event);

@@ -50,7 +50,8 @@ constexpr int kVarietyLinePieces = 40;
 
 /// The markers of a finished job: first a DELETEALL (clears the previous job's), then the markers above. Poses of
 /// the query's frame are mapped to `base_frame` with the query's transform (poses only: display, not a proof).
-/// At most `max_boxes` undecided boxes are drawn (distinct position projections, in the verifier's order).
+/// At most `max_boxes` undecided boxes are drawn (distinct position projections, in the verifier's order). A workspace
+/// of a robot's own pose coordinates (query.pose_domain: not positions of the base frame) gets the label only.
 visualization_msgs::MarkerArray makeJobMarkers(const WorkspaceQuery& query, const WorkspaceOutcome& outcome,
                                                const std::string& base_frame, const ros::Time& stamp,
                                                std::size_t max_boxes);

@@ -36,15 +36,17 @@ std::unique_ptr<domain::PiecewiseTrajectory> toTrajectory(const TrajectorySpec& 
 /// @throws InvalidArgument if the spec was not validated (fromRequest() of VerifyVarietyConversion.hpp checks it).
 std::unique_ptr<domain::ParametricVariety> toVariety(const VarietySpec& spec);
 
-/// The search domain of a query: its workspace, trajectory or variety, or, when the query has a transform (frame_id
-/// other than the base frame), the core's domain::TransformedDomain of it (which decides which transforms it supports).
+/// The search domain of a query: its workspace (query.pose_domain for a robot whose pose is not the rigid-body pose),
+/// trajectory or variety, or, when the query has a transform (frame_id other than the base frame), the core's
+/// domain::TransformedDomain of it (which decides which transforms it supports).
 /// @throws InvalidArgument as toWorkspace, or the core's refusal of the transform (prefixed with "frame_id \"F\": ").
-std::unique_ptr<domain::Domain> toDomain(const WorkspaceQuery& query);
+std::shared_ptr<const domain::Domain> toDomain(const WorkspaceQuery& query);
 
 /// The verifier options of a query: mode, thresholds (a threshold of +inf, "do not check", becomes the largest
 /// finite double: every bounded error passes it, an unbounded one does not), alpha (relative), time limit, min width
-/// (the same for the 6 variables; 0 = the verifier's choice), threads, method ("" = the verifier's default), geometry
-/// splitting ("never", "always", anything else: auto) and stall levels, hooks.
+/// (the same for every variable; 0 = the verifier's choice), threads, method ("" = the verifier's default), geometry
+/// splitting ("never", "always", anything else: auto), hooks. The search's internal knobs (verify::SearchTuning) stay
+/// at their defaults.
 verify::VerifierOptions toVerifierOptions(const WorkspaceQuery& query, const JobHooks& hooks = JobHooks());
 
 /// The outcome of a finished run (success = true). `model` is used only to evaluate the error at a max_error

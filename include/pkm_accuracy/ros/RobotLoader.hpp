@@ -148,9 +148,10 @@ bool loadGoughGeometryFromUrdf(const urdf::Model& urdf, const UrdfAnchorNames& n
                                std::string& error);
 
 /// A robot of a registered type other than gough from the parameters under `nh` (the keys of a robot file of that
-/// type, docs/models.md: its geometry groups, sensor_error, optional uncertainty; `workspaces` is read by
-/// loadNamedWorkspaces()). The parameters are translated to the robot file's YAML form and read by
-/// io::parseModelDocument, so the node and pkm_verify read a robot the same way.
+/// type, docs/models.md: its geometry groups, sensor_error, optional uncertainty; `workspaces` too for a type whose
+/// pose is not the rigid-body pose (out.workspaces: boxes of its pose coordinates), else loadNamedWorkspaces() reads
+/// them). The parameters are translated to the robot file's YAML form and read by io::parseModelDocument, so the node
+/// and pkm_verify read a robot the same way.
 /// @return false with `error` naming the parameter (or the type, if it is not registered).
 bool loadModelFromParameters(const ros::NodeHandle& nh, const std::string& type, io::ModelFile& out,
                              std::string& error);

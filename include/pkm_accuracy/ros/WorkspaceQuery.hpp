@@ -8,14 +8,17 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "pkm_accuracy/core/domain/Domain.hpp"
 #include "pkm_accuracy/core/domain/ParametricVariety.hpp"
 #include "pkm_accuracy/core/domain/PolynomialTrajectory.hpp"
+#include "pkm_accuracy/core/model/RobotDescription.hpp"
 
 namespace pkm_accuracy {
 namespace ros_layer {
@@ -46,6 +49,9 @@ struct WorkspaceSpec {
 /// A named workspace of the robot (the `workspaces` map of its parameters, as in config/ref6.yaml), in the base frame.
 struct NamedWorkspace {
   WorkspaceSpec spec;
+  /// A robot whose pose is not the rigid-body pose: the workspace as a domain of its own pose coordinates (as the robot
+  /// file's reader makes it; `spec` is then unused). Null for rigid-body robots.
+  std::shared_ptr<const domain::Domain> domain;
   /// The entry has a `frame` key (a workspace given in a frame fixed to the base frame; pkm_verify reads it, the
   /// node refuses to verify such an entry).
   bool has_frame = false;
@@ -86,6 +92,14 @@ struct WorkspaceQuery {
   QueryDomain domain = QueryDomain::Workspace;  ///< which of the three below is verified
   WorkspaceSpec workspace;
   std::string workspace_name;  ///< the named workspace `workspace` is (QueryDefaults::workspaces); "" = none
+  /// A robot whose pose is not the rigid-body pose: the workspace as a domain of its own pose coordinates (a named
+  /// workspace or the request's pose_min / pose_max box; then `workspace` is unused and there is no transform).
+  std::shared_ptr<const domain::Domain> pose_domain;
+  /// The robot's number of error components n (= pose coordinates): thresholds, bounds and pose vectors use their
+  /// first n entries, the rest are 0.
+  int components = 6;
+  /// The robot's pose is the rigid-body pose (x, y, z, roll, pitch, yaw): poses are reported as geometry_msgs/Pose too.
+  bool rigid_body_pose = true;
   TrajectorySpec trajectory;
   VarietySpec variety;
   std::array<double, 6> thresholds{};  ///< on |dX_k|: m, m, m, rad, rad, rad (may be +inf); all 0 = none given
@@ -96,12 +110,8 @@ struct WorkspaceQuery {
   double min_width = 0.0;    ///< m / rad, s or parameter units (see QueryDomain), >= 0 (0: the verifier chooses)
   unsigned threads = 0;      ///< 0 = all hardware threads
   std::string method;        ///< enclosure method name; "": the verifier's default
-  /// Geometric uncertainty (robots with anchor uncertainty): "auto", "never" or "always" (verify::GeometrySplitting)
-  /// and the stall levels of "auto" (0 = half the number of box variables, at least 2).
+  /// Geometric uncertainty (robots with anchor uncertainty): "auto", "never" or "always" (verify::GeometrySplitting).
   std::string geometry_splitting = "auto";
-  int stall_levels = 0;
-  /// How the anchor uncertainty is bounded: "combined" or "decomposed" (verify::VerifierOptions::decompose_geometry).
-  std::string geometry_form = "decomposed";
   /// Frame of the workspace and of every pose of the outcome; "" = the robot's base frame. For another frame the
   /// node fills the transform below from tf2 (has_transform) before the core runs.
   std::string frame_id;
@@ -134,8 +144,10 @@ struct SensitiveSummary {
   bool passes_all = false;
 };
 
-/// Outcome of one request (mirrors the response of srv/VerifyWorkspace.srv, whose comments give units and frames).
+/// Outcome of one request (mirrors the response of srv/VerifyWorkspace.srv, whose comments give units and frames). For
+/// a robot with n < 6 components every 6-number vector holds them first, then zeros.
 struct WorkspaceOutcome {
+  bool rigid_body_pose = true;  ///< as the query's: false: no geometry_msgs/Pose of the poses (argmax, witness)
   bool success = false;
   std::string message;
   bool busy = false;
@@ -189,8 +201,12 @@ struct WorkspaceOutcome {
   SensitiveSummary sensitive;           ///< the first of them (component -1 if none)
 };
 
-/// Node-wide defaults for the options a request leaves at 0, and the robot's named workspaces a request may ask for.
+/// Node-wide defaults for the options a request leaves at 0, and the loaded robot as a request names it: its type,
+/// pose coordinates and error components, and the named workspaces a request may ask for.
 struct QueryDefaults {
+  std::string robot_type = "gough";
+  std::vector<model::PoseComponent> pose = model::rigidBodyPose();  ///< the robot's pose coordinates, in order
+  bool rigidBodyPose() const { return model::hasRigidBodyPose(pose); }
   double alpha = 0.01;
   double time_budget = 10.0;                         ///< s: jobs take well under a second; a long one must ask for more
   double min_width = 0.0;                            ///< 0: let the verifier choose (relative to the workspace)
