@@ -6,7 +6,7 @@
 //   anchor-uncertainty rows only);
 //   rounds: how many times the anchor-uncertainty cases run, in turn (h = 0, 0.5, 1 mm, h = 0, ...; default 3), so
 //   that the ratios are taken from each case's fastest run (this shared VM's wall times swing 2x with other load);
-//   the last argument: the geometry form of the uncertain cases (VerifierOptions::decompose_geometry; default: the
+//   the last argument: the geometry form of the uncertain cases (SearchTuning::decompose_geometry; default: the
 //   library's default; both: each uncertain case with each form, in turn, in every round);
 //   the half-widths of the uncertain cases in mm, comma-separated (default: ref6.yaml's anchor_uncertainty_cases,
 //   0.5 and 1 mm), e.g. 0.25,0.5,0.75,1 for the ratio as a function of h.

@@ -74,10 +74,10 @@ std::string boxText(const RunInfo& info, const IVec& b) {
   return os.str();
 }
 
-/// The run info with the variables of a Gough pose (for the poses of a trajectory or variety).
+/// The run info with the robot's pose coordinates as variables (for the poses of a trajectory or variety).
 RunInfo poseNames(const RunInfo& info) {
   RunInfo names = info;
-  names.variables = {"x [m]", "y [m]", "z [m]", "roll [rad]", "pitch [rad]", "yaw [rad]"};
+  names.variables = info.pose_coordinates;
   return names;
 }
 

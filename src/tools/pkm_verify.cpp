@@ -900,9 +900,12 @@ void describeModelRun(const io::ModelFile& file, const domain::Domain& target, c
   for (int i = 0; i < target.variables(); ++i) info.variables.push_back(target.variableName(i));
   info.components.clear();
   info.units.clear();
+  info.pose_coordinates.clear();
   for (int k = 0; k < model.dof(); ++k) {
-    info.components.push_back(file.description.pose[static_cast<std::size_t>(k)].errorName());
-    info.units.push_back(file.description.pose[static_cast<std::size_t>(k)].unit);
+    const model::PoseComponent& c = file.description.pose[static_cast<std::size_t>(k)];
+    info.components.push_back(c.errorName());
+    info.units.push_back(c.unit);
+    info.pose_coordinates.push_back(c.name + " [" + c.unit + "]");
   }
   for (int p = 0; p < model.geometryParameterCount(); ++p) {
     info.geometry_parameters.push_back(model.geometryParameterName(p));

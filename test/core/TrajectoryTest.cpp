@@ -194,7 +194,7 @@ void safeAboveUnsafeBelow(const PiecewiseTrajectory& traj, const std::string& wh
   const auto safe = verifyAt(traj, s.max * 1.10);
   EXPECT_EQ(safe.verdict, Verdict::Safe) << safe.message;
   EXPECT_EQ(safe.undecided_box_count, 0u);
-  EXPECT_EQ(safe.stats.unenclosed_boxes, 0u);  // (VerifierOptions::skip_hopeless: domains of 3 or more variables)
+  EXPECT_EQ(safe.stats.unenclosed_boxes, 0u);  // (SearchTuning::skip_hopeless: domains of 3 or more variables)
   // Also without the pre-sampling grid (u = 0, 1/2, 1): the branch-and-bound has to find the witness itself.
   for (int presample : {3, 0}) {
     SCOPED_TRACE("presample_points " + std::to_string(presample));

@@ -448,7 +448,7 @@ TEST(Verifier, DerivativeStepKeepsVerdictsAndBrackets) {
   expectBracketHolds(s, o, maxima, 0.05);
 }
 
-// VerifierOptions::skip_hopeless changes the search order only: the same verdicts, witnesses that really exceed,
+// SearchTuning::skip_hopeless changes the search order only: the same verdicts, witnesses that really exceed,
 // brackets that contain the sampled maxima; and on this workspace it does split halves without enclosing them (1
 // thread: deterministic counts). Whether that saves boxes is a benchmark's question (docs/algorithm.md: 10-15% fewer
 // on the paper workspace; on this half workspace it can cost a few more): here only that it costs no more than a

@@ -1236,6 +1236,23 @@ TEST_F(CliTest, PluginRobotTypeIsLoadedAndVerified) {
   EXPECT_NE(notPlugin.err.find("--plugin"), std::string::npos) << notPlugin.err;
 }
 
+TEST_F(CliTest, SummaryNamesTheRobotsOwnPoseCoordinates) {
+  // A planar3rpr trajectory, UNSAFE at tiny thresholds: the summary's witness pose is in (x, y, theta), the robot's
+  // pose coordinates, not in the rigid-body pose's names.
+  const std::string traj = path("planar_trajectory.yaml");
+  std::ofstream(traj) << "interpolation: linear\nwaypoints:\n  - [0, -0.05, 0.0, -0.1]\n  - [1, 0.05, 0.02, 0.2]\n";
+  const RunResult r =
+      run({"--robot", kSource + "/config/planar3rpr.yaml", "--trajectory", traj, "--thresholds", "1e-9,1e-9,1e-9"});
+  ASSERT_EQ(r.code, 1) << r.err;
+  const std::size_t pose = r.out.find("pose x = ");
+  ASSERT_NE(pose, std::string::npos) << r.out;
+  const std::string line = r.out.substr(pose, r.out.find('\n', pose) - pose);
+  EXPECT_NE(line.find(", theta = "), std::string::npos) << line;
+  EXPECT_NE(line.find(" rad"), std::string::npos) << line;
+  EXPECT_EQ(line.find("z = "), std::string::npos) << line;
+  EXPECT_EQ(line.find("roll"), std::string::npos) << line;
+}
+
 TEST_F(CliTest, Delta3TrajectoryInItsPoseCoordinates) {
   const std::string robot = kSource + "/config/delta3.yaml";
   const std::string traj = kSource + "/config/delta3_trajectory.yaml";

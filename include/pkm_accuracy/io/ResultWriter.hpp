@@ -72,6 +72,8 @@ struct RunInfo {
   std::string workspace_region;        ///< "box", "cylinder", "sphere", "polyhedron"
   IVec workspace_box;                  ///< initial box of the domain's variables
   std::vector<std::string> variables;  ///< names of the domain's variables
+  /// The robot's pose coordinates with their units ("x [m]", ...; the poses of a trajectory, a variety, a witness).
+  std::vector<std::string> pose_coordinates = {"x [m]", "y [m]", "z [m]", "roll [rad]", "pitch [rad]", "yaw [rad]"};
   std::vector<std::string> components = {"dx", "dy", "dz", "drx", "dry", "drz"};  ///< error components
   std::vector<std::string> units = {"m", "m", "m", "rad", "rad", "rad"};          ///< unit of each component
   double anchor_uncertainty = 0.0;      ///< m: the largest half-width of an anchor coordinate

@@ -196,7 +196,7 @@ struct WorkspaceOutcome {
   std::uint64_t geometry_splits = 0;    ///< bisections of a geometry parameter
   std::uint64_t face_switches = 0;      ///< search paths that switched to the faces of the geometry box
   std::uint64_t face_boxes = 0;         ///< boxes enclosed on faces
-  std::uint64_t unenclosed_boxes = 0;   ///< boxes split without an enclosure (VerifierOptions::skip_hopeless)
+  std::uint64_t unenclosed_boxes = 0;   ///< boxes split without an enclosure (SearchTuning::skip_hopeless)
   std::uint64_t sensitive_poses = 0;    ///< uncertainty-sensitive poses found
   SensitiveSummary sensitive;           ///< the first of them (component -1 if none)
 };

@@ -27,7 +27,7 @@ int SplitPolicy::followProgress(const enclosure::ErrorBounds& bounds, unsigned a
                                 int split, double poseScore, SearchPath& next, bool& switchedToFaces) const {
   const VerifierOptions& o = c_.options;
   const double excess = relativeExcess(bounds, active);
-  // Progress: the excess at least halved (VerifierOptions::stall_levels). With a 10% step the decomposed form's
+  // Progress: the excess at least halved (SearchTuning::stall_levels). With a 10% step the decomposed form's
   // paths keep "progressing" towards its floor at single poses (a +0.5% case UNDECIDED after 200 001 boxes), and
   // the combined form's reach the faces later (2 439 boxes there against 255 with a halving, both at 6 stall
   // levels); the paper workspace at 5% margins never stalls either way (docs/design-notes.md).

@@ -15,7 +15,7 @@
 // uncertain geometry parameters, and for an exact geometry on boxes of 3 or more variables (without
 // BoxInput::keepInternals), the affine forms of N V of PreconditionedInverseEnclosure are used instead (with the
 // geometry parameters as first-order terms, resp. without them; docs/enclosures.md). With BoxInput::decomposeGeometry
-// (VerifierOptions::decompose_geometry) on workspace boxes, the geometry enters instead as a separate bound of the
+// (SearchTuning::decompose_geometry) on workspace boxes, the geometry enters instead as a separate bound of the
 // error's increase over the nominal geometry (GeometryIncrement), added to each column of the nominal form. With
 // uncertain geometry, a component whose monotonicity in some parameters was certified on a containing box
 // (BoxInput::faces) is bounded on that face of the geometry box, with those parameters fixed at their raising ends

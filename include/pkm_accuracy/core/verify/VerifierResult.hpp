@@ -48,7 +48,7 @@ struct Statistics {
   std::size_t face_switches = 0;
   std::size_t face_boxes = 0;
   /// Boxes split without being enclosed, because the enclosure of the box they came from predicted that they could
-  /// not be decided (VerifierOptions::skip_hopeless; not counted in `boxes`).
+  /// not be decided (SearchTuning::skip_hopeless; not counted in `boxes`).
   std::size_t unenclosed_boxes = 0;
   /// Points evaluated by the self-check (VerifierOptions::self_check; 0 without it), every one within its box's bounds.
   std::size_t self_check_points = 0;
