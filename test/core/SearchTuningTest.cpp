@@ -1,8 +1,8 @@
 // verify::SearchTuning, the search's internal knobs (no user interface exposes them; benches and tests set them): they
 // change how the search goes, not what it certifies. Here the geometry form, on the reference robot with every anchor
 // coordinate known to +-0.5 mm over a 2 cm box, where dx reaches ~1.1328e-4 m. (The other knobs are tested with the
-// verifier: skip_hopeless in VerifierTest, faces, stall_levels and both forms' answers in UncertaintyTest, every
-// bisection rule in the soundness suite; that the reports write them as run in test/io/ResultWriterTest.)
+// verifier: skip_hopeless in VerifierTest, faces, stall_levels and both forms' answers in UncertaintyVerifierTest,
+// every bisection rule in the soundness suite; that the reports write them as run in test/io/ResultWriterTest.)
 #include <gtest/gtest.h>
 
 #include "TestRobots.hpp"
