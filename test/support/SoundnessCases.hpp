@@ -6,8 +6,9 @@
 // errors, a tool point), optional anchor / tool-point uncertainty (0-2% of the robot's size), a domain (box
 // workspace with thin variables and angle ranges up to 40 degrees, near-singular boxes, position regions, a
 // transformed frame, waypoint and polynomial trajectories, polynomial motion varieties) and verifier options. The same
-// numbers are given to the core (GoughGeometry, domain classes) and to the plain oracle (PlainOracle.hpp), which
-// never uses the core's models or domains.
+// numbers are given to the core (GoughGeometry, domain classes; every fourth case through the generic model path,
+// KinematicModel<GoughKinematics>) and to the plain oracle (PlainOracle.hpp), which never uses the core's models or
+// domains.
 //
 // runCase() runs the verifier on it (max-error mode, then verify mode with thresholds below and just above the
 // maxima) and checks every answer against the oracle; it returns the failures as sentences (empty: the case passed).
@@ -36,6 +37,7 @@
 #include "pkm_accuracy/core/domain/Workspace.hpp"
 #include "pkm_accuracy/core/model/GoughGeometry.hpp"
 #include "pkm_accuracy/core/model/GoughPlatform.hpp"
+#include "pkm_accuracy/core/model/robots/GoughKinematics.hpp"
 #include "pkm_accuracy/core/verify/Verifier.hpp"
 
 namespace pkm_accuracy {
@@ -60,6 +62,9 @@ struct Case {
   int index = 0;
   Profile profile = Profile::General;
   std::string robotKind, domainKind, sizeClass;
+  /// The robot through the generic model path (KinematicModel<GoughKinematics>, model::makeGenericGough) instead of
+  /// the hand-written GoughPlatform: every fourth case (index % 4 == 3; the random draws are the same either way).
+  bool generic = false;
   double size = 0.0;                ///< the robot's base radius (m)
   model::GoughGeometry geometry;    ///< what the core gets (with its half-widths)
   oracle::Uncertainty uncertainty;  ///< what the oracle gets (nominal robot and uncertain coordinates)
@@ -71,9 +76,10 @@ struct Case {
 
   std::string description() const {
     std::ostringstream os;
-    os << "seed " << seed << " case " << index << " (" << profileName(profile) << "): " << robotKind << ", "
-       << domainKind << " (" << sizeClass << ")\n  robot: " << robotText << "\n  domain: " << domainText
-       << "\n  options: " << optionsText << ", alpha " << alpha;
+    os << "seed " << seed << " case " << index << " (" << profileName(profile) << "): " << robotKind
+       << (generic ? " (generic model path)" : "") << ", " << domainKind << " (" << sizeClass
+       << ")\n  robot: " << robotText << "\n  domain: " << domainText << "\n  options: " << optionsText << ", alpha "
+       << alpha;
     return os.str();
   }
 };
@@ -368,6 +374,7 @@ inline Case makeCase(std::uint64_t seed, int index, const model::GoughGeometry& 
   const Robot r = makeRobot(rng, ref6, focus ? 0.6 : 0.35);
   c.robotKind = r.kind;
   c.size = r.size;
+  c.generic = index % 4 == 3;
 
   // ---- uncertainty: none, every anchor coordinate, base or platform anchors only, or a few coordinates ----
   std::array<Eigen::Vector3d, 6> baseHalf, platformHalf;
@@ -944,7 +951,10 @@ inline std::vector<std::string> runCase(const Case& c, const RunSettings& s, Cou
   std::vector<std::string> failures;
   Checker chk{c, counts, failures, std::mt19937_64(c.seed * 7919u + static_cast<std::uint64_t>(c.index))};
   ++counts.cases;
-  const model::GoughPlatform robot(c.geometry);
+  const std::unique_ptr<const model::RobotModel> robotModel =
+      c.generic ? std::unique_ptr<const model::RobotModel>(model::makeGenericGough(c.geometry))
+                : std::make_unique<const model::GoughPlatform>(c.geometry);
+  const model::RobotModel& robot = *robotModel;
   const oracle::Uncertainty& u = c.uncertainty;
 
   // The parameters the verifier reports geometries in are the oracle's coordinates, in the same order.
