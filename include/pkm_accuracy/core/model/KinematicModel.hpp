@@ -96,7 +96,8 @@ class KinematicModel final : public RobotModel {
       : k_(std::move(kinematics)),
         d_(std::make_shared<const RobotDescription>(checked(std::move(description)))),
         g_(*d_),
-        rows_(std::make_shared<const std::vector<std::uint32_t>>(rowsMovedByGeometry(k_, g_.size()))) {}
+        rows_(std::make_shared<const std::vector<std::uint32_t>>(rowsMovedByGeometry(k_, g_.size()))),
+        layout_(derivativeLayout()) {}
 
   const RobotDescription& description() const { return *d_; }
   const K& kinematics() const { return k_; }
@@ -175,6 +176,7 @@ class KinematicModel final : public RobotModel {
     if (g_.parameterCount() == 0) return RobotModel::fixGeometryParameters(values);
     auto out = std::make_unique<KinematicModel>(*this);
     out->g_.fix(values, *d_);
+    out->layout_ = out->derivativeLayout();  // (the parameters are renumbered)
     return out;
   }
 
@@ -199,7 +201,14 @@ class KinematicModel final : public RobotModel {
   bool validParameter(int p) const { return p >= 0 && p < g_.parameterCount(); }
   /// The rows of J^-1 geometry parameter p moves (bit r).
   std::uint32_t rowsOf(int p) const { return (*rows_)[static_cast<std::size_t>(g_.valueOf(p))]; }
-  std::vector<std::vector<int>> parameterGroups() const;
+  /// How geometryDerivatives() lays out its entries: parameters grouped so that the rows each group moves are
+  /// pairwise disjoint (one evaluation per group), and the first entry of each parameter (parameter-major order;
+  /// first.back() = the number of entries). Depends only on the parameter numbering, so restricted copies share it.
+  struct DerivativeLayout {
+    std::vector<std::vector<int>> groups;
+    std::vector<int> first;
+  };
+  std::shared_ptr<const DerivativeLayout> derivativeLayout() const;
   template <typename G, typename A>
   void seedGeometry(const std::vector<int>& group, std::vector<G>& g, std::vector<A>& ga, bool on) const;
   template <typename G, typename A>
@@ -231,6 +240,7 @@ class KinematicModel final : public RobotModel {
   std::shared_ptr<const RobotDescription> d_;
   GeometryValues g_;
   std::shared_ptr<const std::vector<std::uint32_t>> rows_;  ///< per geometry value: the rows of J^-1 it enters (bit r)
+  std::shared_ptr<const DerivativeLayout> layout_;
 };
 
 // ---- template definitions -----------------------------------------------------------------------------------------
@@ -388,12 +398,9 @@ bool KinematicModel<K>::affineHessianMagnitude(const IVec& pose, const DMat& c,
 template <typename K>
 bool KinematicModel<K>::geometryDerivatives(const IVec& pose, GeometryDerivatives& out) const {
   out.count = 0;
-  const int params = g_.parameterCount();
-  if (params == 0) return true;
-  // Entries in parameter-major order: the first entry of each parameter.
-  std::vector<int> first(static_cast<std::size_t>(params) + 1, 0);
-  for (int p = 0; p < params; ++p) first[p + 1] = first[p] + __builtin_popcount(rowsOf(p));
-  if (first[params] > GeometryDerivatives::kCapacity) return false;
+  if (g_.parameterCount() == 0) return true;
+  const std::vector<int>& first = layout_->first;
+  if (first.back() > GeometryDerivatives::kCapacity) return false;
   using G = interval::Dual<Interval, 1>;
   using A = interval::Dual<interval::AffineForm<kMaxDof>, 1>;
   std::vector<G> g(g_.ranges().begin(), g_.ranges().end());
@@ -407,7 +414,7 @@ bool KinematicModel<K>::geometryDerivatives(const IVec& pose, GeometryDerivative
     qa[a] = A(interval::AffineForm<kMaxDof>::variable(pose[a], a));
   }
   bool affine = true;
-  for (const std::vector<int>& group : parameterGroups()) {
+  for (const std::vector<int>& group : layout_->groups) {
     seedGeometry(group, g, ga, true);
     k_.inverseJacobian(q, g.data(), jinv);
     k_.inverseJacobian(qa, ga.data(), jinvA);
@@ -421,29 +428,31 @@ bool KinematicModel<K>::geometryDerivatives(const IVec& pose, GeometryDerivative
       }
     }
   }
-  out.count = first[params];
+  out.count = first.back();
   for (int e = 0; e < out.count && !affine; ++e) out.entries[e].affine = false;
   return true;
 }
 
-/// Greedy grouping of the geometry parameters into groups whose rows (rowsOf) are pairwise disjoint.
+/// The groups greedily: each parameter joins the first group whose rows (rowsOf) it does not share.
 template <typename K>
-std::vector<std::vector<int>> KinematicModel<K>::parameterGroups() const {
-  std::vector<std::vector<int>> groups;
+std::shared_ptr<const typename KinematicModel<K>::DerivativeLayout> KinematicModel<K>::derivativeLayout() const {
+  auto layout = std::make_shared<DerivativeLayout>();
   std::vector<std::uint32_t> used;
+  layout->first.assign(static_cast<std::size_t>(g_.parameterCount()) + 1, 0);
   for (int p = 0; p < g_.parameterCount(); ++p) {
     const std::uint32_t rows = rowsOf(p);
+    layout->first[p + 1] = layout->first[p] + __builtin_popcount(rows);
     if (rows == 0u) continue;
     std::size_t k = 0;
-    while (k < groups.size() && (used[k] & rows) != 0u) ++k;
-    if (k == groups.size()) {
-      groups.emplace_back();
+    while (k < used.size() && (used[k] & rows) != 0u) ++k;
+    if (k == used.size()) {
+      layout->groups.emplace_back();
       used.push_back(0u);
     }
-    groups[k].push_back(p);
+    layout->groups[k].push_back(p);
     used[k] |= rows;
   }
-  return groups;
+  return layout;
 }
 
 /// Seeds (on) or unseeds (off) the derivative slot of every parameter of `group` in both duals.
